@@ -1,0 +1,1 @@
+//! brute (in progress)
