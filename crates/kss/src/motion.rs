@@ -1,1 +1,242 @@
-//! motion (in progress)
+//! Motion: linear trajectories of rigid translating bodies, moving points in
+//! homogeneous integer form, and certificate functions (orientations of three
+//! moving points as polynomials in time).
+//!
+//! A body translates: at time `t` its world vertex is `position(t) + v` with
+//! `v` the body-frame vertex and `position(t) = origin + velocity·t` on the
+//! current piece of its piecewise-linear path (`origin` is the position the
+//! piece would have at `t = 0`). A [`LinearPoint`] is such a world vertex in
+//! the form `((x0 + x1·t)/w, (y0 + y1·t)/w)` with integers and `w > 0`, so that
+//! [`orient_poly`] needs only integer arithmetic.
+
+use crate::geom::{BodyPolygon, Point};
+use crate::num::{Int, Poly, Rational};
+
+/// One linear piece of a body's path: `position(t) = origin + velocity·t`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Trajectory {
+    origin: Point,
+    velocity: Point,
+}
+
+impl Trajectory {
+    /// The piece that is at `position` at time `time` and moves with `velocity`.
+    pub fn through(time: &Rational, position: &Point, velocity: Point) -> Trajectory {
+        Trajectory {
+            origin: position.sub(&velocity.scale(time)),
+            velocity,
+        }
+    }
+
+    /// Position at time `t`.
+    pub fn position_at(&self, t: &Rational) -> Point {
+        self.origin.add(&self.velocity.scale(t))
+    }
+
+    /// The velocity.
+    pub fn velocity(&self) -> &Point {
+        &self.velocity
+    }
+
+    /// The position extrapolated to time 0.
+    pub fn origin(&self) -> &Point {
+        &self.origin
+    }
+
+    /// The continuous continuation that moves with `velocity` from time `at` on.
+    pub fn with_velocity_from(&self, at: &Rational, velocity: Point) -> Trajectory {
+        Trajectory::through(at, &self.position_at(at), velocity)
+    }
+}
+
+/// A body's current trajectory in integer form, ready to produce moving
+/// vertices: vertex `i` is `((ox + m·X_i + vx·t)/w, (oy + m·Y_i + vy·t)/w)`
+/// where `(X_i, Y_i)` are the body polygon's integer coordinates.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Frame {
+    ox: Int,
+    oy: Int,
+    vx: Int,
+    vy: Int,
+    m: Int,
+    w: Int,
+}
+
+impl Frame {
+    /// The frame of a body polygon moving along `traj`.
+    pub fn new(traj: &Trajectory, body: &BodyPolygon) -> Frame {
+        let o = traj.origin();
+        let v = traj.velocity();
+        let dens = [o.x.denom(), o.y.denom(), v.x.denom(), v.y.denom()];
+        let mut w = dens[0].clone();
+        for d in &dens[1..] {
+            w = lcm(&w, d);
+        }
+        let scale = |r: &Rational| r.numer() * (&w / r.denom());
+        let (mut ox, mut oy, mut vx, mut vy) = (scale(&o.x), scale(&o.y), scale(&v.x), scale(&v.y));
+        let e = body.exp();
+        let m;
+        if e >= 0 {
+            m = &w << e as usize;
+        } else {
+            let s = (-e) as usize;
+            ox <<= s;
+            oy <<= s;
+            vx <<= s;
+            vy <<= s;
+            m = w.clone();
+            w <<= s;
+        }
+        Frame {
+            ox,
+            oy,
+            vx,
+            vy,
+            m,
+            w,
+        }
+    }
+
+    /// The moving world position of body vertex `i`.
+    pub fn vertex(&self, body: &BodyPolygon, i: usize) -> LinearPoint {
+        let (x, y) = body.int_vertex(i);
+        LinearPoint {
+            x0: &self.ox + &self.m * x,
+            x1: self.vx.clone(),
+            y0: &self.oy + &self.m * y,
+            y1: self.vy.clone(),
+            w: self.w.clone(),
+        }
+    }
+}
+
+fn lcm(a: &Int, b: &Int) -> Int {
+    use dashu_base::Gcd;
+    if a == b {
+        return a.clone();
+    }
+    let g = Int::from(a.gcd(b));
+    a / &g * b
+}
+
+/// A point moving linearly: `((x0 + x1·t)/w, (y0 + y1·t)/w)`, integers, `w > 0`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LinearPoint {
+    /// x numerator, constant term.
+    pub x0: Int,
+    /// x numerator, coefficient of t.
+    pub x1: Int,
+    /// y numerator, constant term.
+    pub y0: Int,
+    /// y numerator, coefficient of t.
+    pub y1: Int,
+    /// Common positive denominator.
+    pub w: Int,
+}
+
+impl LinearPoint {
+    /// The exact position at a rational time.
+    pub fn at(&self, t: &Rational) -> Point {
+        let x = Rational::new(
+            &self.x0 * t.denom() + &self.x1 * t.numer(),
+            &self.w * t.denom(),
+        );
+        let y = Rational::new(
+            &self.y0 * t.denom() + &self.y1 * t.numer(),
+            &self.w * t.denom(),
+        );
+        Point { x, y }
+    }
+
+    /// Approximate position at time `t` (display only).
+    pub fn at_f64(&self, t: f64) -> [f64; 2] {
+        let w = self.w.to_f64().value();
+        [
+            (self.x0.to_f64().value() + self.x1.to_f64().value() * t) / w,
+            (self.y0.to_f64().value() + self.y1.to_f64().value() * t) / w,
+        ]
+    }
+}
+
+/// `q − p` as a linear vector, scaled by the positive `p.w · q.w` (or not at
+/// all when the denominators agree).
+fn diff(p: &LinearPoint, q: &LinearPoint) -> [Int; 4] {
+    if p.w == q.w {
+        [&q.x0 - &p.x0, &q.x1 - &p.x1, &q.y0 - &p.y0, &q.y1 - &p.y1]
+    } else {
+        [
+            &q.x0 * &p.w - &p.x0 * &q.w,
+            &q.x1 * &p.w - &p.x1 * &q.w,
+            &q.y0 * &p.w - &p.y0 * &q.w,
+            &q.y1 * &p.w - &p.y1 * &q.w,
+        ]
+    }
+}
+
+/// The certificate function `orient(p(t), q(t), r(t)) = (q − p) × (r − p)`,
+/// scaled by a positive factor: positive while `r` is left of `p → q`.
+/// Degree 2 in general; degree <= 1 when two of the points move together.
+pub fn orient_poly(p: &LinearPoint, q: &LinearPoint, r: &LinearPoint) -> Poly {
+    let [ux0, ux1, uy0, uy1] = diff(p, q);
+    let [vx0, vx1, vy0, vy1] = diff(p, r);
+    let c0 = &ux0 * &vy0 - &uy0 * &vx0;
+    let c1 = &ux0 * &vy1 + &ux1 * &vy0 - &uy0 * &vx1 - &uy1 * &vx0;
+    let c2 = &ux1 * &vy1 - &uy1 * &vx1;
+    Poly::new(c0, c1, c2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::orient;
+    use crate::num::{Sign, Time};
+
+    fn r(x: f64) -> Rational {
+        Rational::from_f64(x).unwrap()
+    }
+
+    fn pt(x: f64, y: f64) -> Point {
+        Point::from_f64([x, y]).unwrap()
+    }
+
+    #[test]
+    fn frame_vertices_and_orientation() {
+        let tri = BodyPolygon::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 0.5]]).unwrap();
+        let a = Trajectory::through(&r(0.0), &pt(0.0, 0.0), pt(0.0, 0.0));
+        let b = Trajectory::through(&r(1.0), &pt(3.0, 0.25), pt(-1.0, 0.0));
+        let fa = Frame::new(&a, &tri);
+        let fb = Frame::new(&b, &tri);
+        // vertex 0 of b at time 1 is (3, 0.25)
+        assert_eq!(fb.vertex(&tri, 0).at(&r(1.0)), pt(3.0, 0.25));
+        assert_eq!(fb.vertex(&tri, 1).at(&r(2.0)), pt(3.0, 0.25));
+        // b's vertex 0 crosses the line of a's edge 1→2 (x + 2y = 1) when
+        // 4 − t + 0.5 = 1, i.e. t = 3.5
+        let p = fa.vertex(&tri, 1);
+        let q = fa.vertex(&tri, 2);
+        let v = fb.vertex(&tri, 0);
+        let cert = orient_poly(&p, &q, &v);
+        assert_eq!(cert.degree(), Some(1));
+        assert_eq!(cert.roots(), vec![Time::from_f64(3.5).unwrap()]);
+        assert_eq!(cert.sign_at(&Time::zero()), Sign::Negative);
+        // agrees with the static predicate
+        let t = r(1.25);
+        assert_eq!(
+            cert.sign_at(&Time::from_rational(t.clone())),
+            orient(&p.at(&t), &q.at(&t), &v.at(&t))
+        );
+    }
+
+    #[test]
+    fn three_bodies_quadratic() {
+        let tri = BodyPolygon::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+        let t0 = r(0.0);
+        let fa = Frame::new(&Trajectory::through(&t0, &pt(0.0, 0.0), pt(1.0, 0.0)), &tri);
+        let fb = Frame::new(&Trajectory::through(&t0, &pt(5.0, 0.0), pt(0.0, 1.0)), &tri);
+        let fc = Frame::new(&Trajectory::through(&t0, &pt(0.0, 5.0), pt(0.1, -0.5)), &tri);
+        let c = orient_poly(&fa.vertex(&tri, 0), &fb.vertex(&tri, 0), &fc.vertex(&tri, 0));
+        assert_eq!(c.degree(), Some(2));
+        for root in c.roots() {
+            assert_eq!(c.sign_at(&root), Sign::Zero);
+        }
+    }
+}

@@ -1,0 +1,227 @@
+//! A closed f64 interval with outward rounding: the filter of every exact
+//! decision. Each operation returns an interval that contains the exact
+//! result of the operation on any points of its operands.
+
+use super::{Int, Sign};
+
+/// A closed interval `[lo, hi]` of reals, with `lo <= hi` (both may be
+/// infinite). Arithmetic rounds outward, so enclosures stay rigorous.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    /// Lower bound.
+    pub lo: f64,
+    /// Upper bound.
+    pub hi: f64,
+}
+
+fn down(x: f64) -> f64 {
+    if x.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        x.next_down()
+    }
+}
+
+fn up(x: f64) -> f64 {
+    if x.is_nan() {
+        f64::INFINITY
+    } else {
+        x.next_up()
+    }
+}
+
+impl Interval {
+    /// The whole real line (decides nothing).
+    pub const ENTIRE: Interval = Interval {
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+    };
+
+    /// The single point `x` (exact).
+    pub fn point(x: f64) -> Interval {
+        Interval { lo: x, hi: x }
+    }
+
+    /// An enclosure of the integer `x`.
+    pub fn of_int(x: &Int) -> Interval {
+        let approx = x.to_f64();
+        let v = approx.value();
+        match approx {
+            dashu_base::Approximation::Exact(_) => Interval::point(v),
+            dashu_base::Approximation::Inexact(_, _) => {
+                if v.is_infinite() {
+                    if v > 0.0 {
+                        Interval {
+                            lo: f64::MAX,
+                            hi: f64::INFINITY,
+                        }
+                    } else {
+                        Interval {
+                            lo: f64::NEG_INFINITY,
+                            hi: f64::MIN,
+                        }
+                    }
+                } else {
+                    Interval {
+                        lo: down(v),
+                        hi: up(v),
+                    }
+                }
+            }
+        }
+    }
+
+    /// The sign of every point of the interval, if they all agree.
+    pub fn sign(&self) -> Option<Sign> {
+        if self.lo > 0.0 {
+            Some(Sign::Positive)
+        } else if self.hi < 0.0 {
+            Some(Sign::Negative)
+        } else if self.lo == 0.0 && self.hi == 0.0 {
+            Some(Sign::Zero)
+        } else {
+            None
+        }
+    }
+
+    /// Whether the interval is a finite, non-empty range.
+    pub fn is_finite(&self) -> bool {
+        self.lo.is_finite() && self.hi.is_finite()
+    }
+
+    /// Width `hi - lo` (rounded up).
+    pub fn width(&self) -> f64 {
+        up(self.hi - self.lo)
+    }
+
+    /// The midpoint (for display).
+    pub fn mid(&self) -> f64 {
+        if self.lo.is_finite() && self.hi.is_finite() {
+            self.lo * 0.5 + self.hi * 0.5
+        } else if self.lo.is_finite() {
+            self.lo
+        } else {
+            self.hi
+        }
+    }
+
+    /// `self + other`.
+    pub fn add(self, other: Interval) -> Interval {
+        Interval {
+            lo: down(self.lo + other.lo),
+            hi: up(self.hi + other.hi),
+        }
+    }
+
+    /// `self - other`.
+    pub fn sub(self, other: Interval) -> Interval {
+        Interval {
+            lo: down(self.lo - other.hi),
+            hi: up(self.hi - other.lo),
+        }
+    }
+
+    /// `-self`.
+    pub fn neg(self) -> Interval {
+        Interval {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+
+    /// `self * other`.
+    pub fn mul(self, other: Interval) -> Interval {
+        if (self.lo == 0.0 && self.hi == 0.0) || (other.lo == 0.0 && other.hi == 0.0) {
+            return Interval::point(0.0);
+        }
+        let p = [
+            self.lo * other.lo,
+            self.lo * other.hi,
+            self.hi * other.lo,
+            self.hi * other.hi,
+        ];
+        if p.iter().any(|x| x.is_nan()) {
+            return Interval::ENTIRE;
+        }
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval {
+            lo: down(lo),
+            hi: up(hi),
+        }
+    }
+
+    /// `self / other`; the whole line if `other` contains zero.
+    pub fn div(self, other: Interval) -> Interval {
+        if other.lo <= 0.0 && other.hi >= 0.0 {
+            return Interval::ENTIRE;
+        }
+        let p = [
+            self.lo / other.lo,
+            self.lo / other.hi,
+            self.hi / other.lo,
+            self.hi / other.hi,
+        ];
+        if p.iter().any(|x| x.is_nan()) {
+            return Interval::ENTIRE;
+        }
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval {
+            lo: down(lo),
+            hi: up(hi),
+        }
+    }
+
+    /// Square root of the non-negative part of the interval.
+    pub fn sqrt(self) -> Interval {
+        let lo = if self.lo <= 0.0 {
+            0.0
+        } else {
+            down(self.lo.sqrt()).max(0.0)
+        };
+        let hi = if self.hi < 0.0 { 0.0 } else { up(self.hi.sqrt()) };
+        Interval { lo, hi }
+    }
+
+    /// Whether the two intervals share a point.
+    pub fn overlaps(&self, other: &Interval) -> bool {
+        !(self.hi < other.lo || other.hi < self.lo)
+    }
+
+    /// The convex hull of two intervals.
+    pub fn hull(&self, other: &Interval) -> Interval {
+        Interval {
+            lo: self.lo.min(other.lo),
+            hi: self.hi.max(other.hi),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn int_enclosures() {
+        let big = Int::from(1u128 << 100) + Int::from(1);
+        let iv = Interval::of_int(&big);
+        assert!(iv.lo < iv.hi);
+        assert!(iv.lo <= 2f64.powi(100) && 2f64.powi(100) <= iv.hi);
+        assert_eq!(Interval::of_int(&Int::from(12345)), Interval::point(12345.0));
+        let huge = Int::from(1) << 2000;
+        let iv = Interval::of_int(&huge);
+        assert!(iv.hi.is_infinite() && iv.lo == f64::MAX);
+    }
+
+    #[test]
+    fn outward() {
+        let a = Interval::point(0.1);
+        let b = Interval::point(0.2);
+        let s = a.add(b);
+        assert!(s.lo < 0.30000000000000004 && s.hi >= 0.30000000000000004);
+        let q = Interval::point(1.0).div(Interval::point(3.0));
+        assert!(q.lo < 1.0 / 3.0 && q.hi > 1.0 / 3.0);
+        assert_eq!(Interval::point(1.0).div(Interval { lo: -1.0, hi: 1.0 }), Interval::ENTIRE);
+    }
+}

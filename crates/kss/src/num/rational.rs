@@ -1,0 +1,356 @@
+//! Exact rationals, reduced, with a positive denominator.
+//!
+//! Rationals appear where the inputs are combined into event times and
+//! positions (collision times are rational under translation). Hot paths
+//! (certificate functions) use integer-scaled polynomials instead.
+
+use std::cmp::Ordering;
+use std::fmt;
+
+use dashu_base::{BitTest, Gcd, PowerOfTwo};
+
+use super::{Int, Interval, Sign};
+
+/// An exact rational `num / den` with `den > 0` and `gcd(num, den) = 1`.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct Rational {
+    num: Int,
+    den: Int,
+}
+
+impl fmt::Debug for Rational {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}/{} (≈{:e})", self.num, self.den, self.to_f64())
+    }
+}
+
+impl fmt::Display for Rational {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.den == Int::ONE {
+            write!(f, "{}", self.num)
+        } else {
+            write!(f, "{}/{}", self.num, self.den)
+        }
+    }
+}
+
+impl Rational {
+    /// Zero.
+    pub fn zero() -> Rational {
+        Rational {
+            num: Int::ZERO,
+            den: Int::ONE,
+        }
+    }
+
+    /// One.
+    pub fn one() -> Rational {
+        Rational {
+            num: Int::ONE,
+            den: Int::ONE,
+        }
+    }
+
+    /// `num / den`, reduced. Panics if `den` is zero (a bug in the caller).
+    pub fn new(num: Int, den: Int) -> Rational {
+        assert!(!den.is_zero(), "rational with zero denominator");
+        let (mut num, mut den) = if den < Int::ZERO {
+            (-num, -den)
+        } else {
+            (num, den)
+        };
+        if num.is_zero() {
+            return Rational::zero();
+        }
+        let g = Int::from((&num).gcd(&den));
+        if g != Int::ONE {
+            num /= &g;
+            den /= &g;
+        }
+        Rational { num, den }
+    }
+
+    /// The integer `x`.
+    pub fn from_int(x: Int) -> Rational {
+        Rational { num: x, den: Int::ONE }
+    }
+
+    /// The exact value of a finite double (a dyadic rational); `None` for NaN
+    /// or infinities.
+    pub fn from_f64(x: f64) -> Option<Rational> {
+        let (m, e) = decompose_f64(x)?;
+        Some(Rational::from_dyadic(m, e))
+    }
+
+    /// `m · 2^e`, reduced.
+    pub fn from_dyadic(m: Int, e: i64) -> Rational {
+        if m.is_zero() {
+            return Rational::zero();
+        }
+        if e >= 0 {
+            Rational {
+                num: m << (e as usize),
+                den: Int::ONE,
+            }
+        } else {
+            let tz = m.trailing_zeros().unwrap_or(0) as i64;
+            let k = tz.min(-e);
+            let num = m >> (k as usize);
+            let den = Int::ONE << ((-e - k) as usize);
+            Rational { num, den }
+        }
+    }
+
+    /// Numerator (carries the sign).
+    pub fn numer(&self) -> &Int {
+        &self.num
+    }
+
+    /// Denominator (positive).
+    pub fn denom(&self) -> &Int {
+        &self.den
+    }
+
+    /// Whether this is zero.
+    pub fn is_zero(&self) -> bool {
+        self.num.is_zero()
+    }
+
+    /// Whether the denominator is a power of two.
+    pub fn is_dyadic(&self) -> bool {
+        let d = self.den.unsigned_abs_ref();
+        d.is_power_of_two()
+    }
+
+    /// The sign.
+    pub fn sign(&self) -> Sign {
+        Sign::of(&self.num)
+    }
+
+    /// `self + other`.
+    pub fn add(&self, other: &Rational) -> Rational {
+        if self.den == other.den {
+            return Rational::new(&self.num + &other.num, self.den.clone());
+        }
+        Rational::new(
+            &self.num * &other.den + &other.num * &self.den,
+            &self.den * &other.den,
+        )
+    }
+
+    /// `self - other`.
+    pub fn sub(&self, other: &Rational) -> Rational {
+        self.add(&other.neg())
+    }
+
+    /// `self * other`.
+    pub fn mul(&self, other: &Rational) -> Rational {
+        Rational::new(&self.num * &other.num, &self.den * &other.den)
+    }
+
+    /// `self / other`; panics if `other` is zero (a bug in the caller).
+    pub fn div(&self, other: &Rational) -> Rational {
+        assert!(!other.is_zero(), "division by zero rational");
+        Rational::new(&self.num * &other.den, &self.den * &other.num)
+    }
+
+    /// `-self`.
+    #[allow(clippy::should_implement_trait)]
+    pub fn neg(&self) -> Rational {
+        Rational {
+            num: -self.num.clone(),
+            den: self.den.clone(),
+        }
+    }
+
+    /// The average of two rationals.
+    pub fn midpoint(&self, other: &Rational) -> Rational {
+        let s = self.add(other);
+        Rational::new(s.num, s.den * Int::from(2))
+    }
+
+    /// A rigorous f64 enclosure.
+    pub fn interval(&self) -> Interval {
+        let n = Interval::of_int(&self.num);
+        let d = Interval::of_int(&self.den);
+        if n.is_finite() && d.is_finite() && d.lo > 0.0 {
+            let q = n.div(d);
+            if q.is_finite() && (q.lo.abs() > f64::MIN_POSITIVE || q.lo == 0.0 && q.hi == 0.0) {
+                return q;
+            }
+        }
+        // Large or tiny values: scale to a 64-bit quotient.
+        let x = self.to_f64_slow();
+        if x.abs() < 1e-290 {
+            // Tiny values: a coarse but rigorous enclosure touching zero (the
+            // exact path decides signs).
+            return if self.num > Int::ZERO {
+                Interval { lo: 0.0, hi: 1e-290 }
+            } else {
+                Interval { lo: -1e-290, hi: 0.0 }
+            };
+        }
+        Interval {
+            lo: x.next_down().next_down(),
+            hi: x.next_up().next_up(),
+        }
+    }
+
+    /// The nearest double, within a couple of units in the last place (for
+    /// display and for outputs; never for decisions).
+    pub fn to_f64(&self) -> f64 {
+        let n = self.num.to_f64().value();
+        let d = self.den.to_f64().value();
+        if n.is_finite() && d.is_finite() && d != 0.0 {
+            let q = n / d;
+            if q == 0.0 && self.num.is_zero() {
+                return 0.0;
+            }
+            if q.is_finite() && q.abs() >= f64::MIN_POSITIVE {
+                return q;
+            }
+        }
+        self.to_f64_slow()
+    }
+
+    fn to_f64_slow(&self) -> f64 {
+        if self.num.is_zero() {
+            return 0.0;
+        }
+        // q = floor(|num| · 2^s / den) with about 64 significant bits.
+        let nb = self.num.unsigned_abs_ref().bit_len() as i64;
+        let db = self.den.unsigned_abs_ref().bit_len() as i64;
+        let s = 66 - (nb - db);
+        let n = Int::from(self.num.unsigned_abs_ref().clone());
+        let q = if s >= 0 {
+            (n << s as usize) / &self.den
+        } else {
+            (n >> (-s) as usize) / &self.den
+        };
+        let qf = q.to_f64().value();
+        let v = scale_pow2(qf, -s);
+        if self.num < Int::ZERO {
+            -v
+        } else {
+            v
+        }
+    }
+
+    /// The largest integer `<= self`.
+    pub fn floor(&self) -> Int {
+        let (q, r) = (&self.num / &self.den, &self.num % &self.den);
+        if r < Int::ZERO {
+            q - Int::ONE
+        } else {
+            q
+        }
+    }
+}
+
+/// `x · 2^e` without intermediate overflow or underflow where avoidable.
+pub(crate) fn scale_pow2(mut x: f64, mut e: i64) -> f64 {
+    while e > 1000 {
+        x *= 2f64.powi(1000);
+        e -= 1000;
+    }
+    while e < -1000 {
+        x *= 2f64.powi(-1000);
+        e += 1000;
+    }
+    x * 2f64.powi(e as i32)
+}
+
+/// A finite double as `m · 2^e` with an integer `m` (exact); `None` for NaN and infinities.
+pub fn decompose_f64(x: f64) -> Option<(Int, i64)> {
+    if !x.is_finite() {
+        return None;
+    }
+    if x == 0.0 {
+        return Some((Int::ZERO, 0));
+    }
+    let bits = x.to_bits();
+    let sign = bits >> 63;
+    let exp = ((bits >> 52) & 0x7ff) as i64;
+    let frac = bits & ((1u64 << 52) - 1);
+    let (m, e) = if exp == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1u64 << 52), exp - 1075)
+    };
+    let m = Int::from(m);
+    Some((if sign == 1 { -m } else { m }, e))
+}
+
+trait UnsignedAbsRef {
+    fn unsigned_abs_ref(&self) -> dashu_int::UBig;
+}
+
+impl UnsignedAbsRef for Int {
+    fn unsigned_abs_ref(&self) -> dashu_int::UBig {
+        use dashu_base::UnsignedAbs;
+        self.clone().unsigned_abs()
+    }
+}
+
+impl PartialOrd for Rational {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Rational {
+    fn cmp(&self, other: &Self) -> Ordering {
+        if self.den == other.den {
+            return self.num.cmp(&other.num);
+        }
+        let sa = self.sign();
+        let sb = other.sign();
+        if sa != sb {
+            return sa.cmp(&sb);
+        }
+        (&self.num * &other.den).cmp(&(&other.num * &self.den))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn from_f64_exact() {
+        let r = Rational::from_f64(0.1).unwrap();
+        assert_eq!(r.denom(), &(Int::ONE << 55));
+        assert_eq!(r.to_f64(), 0.1);
+        assert_eq!(Rational::from_f64(-3.0).unwrap(), Rational::from_int(Int::from(-3)));
+        assert_eq!(Rational::from_f64(0.5).unwrap().to_string(), "1/2");
+        let tiny = Rational::from_f64(f64::from_bits(1)).unwrap();
+        assert_eq!(tiny.to_f64(), f64::from_bits(1));
+        let huge = Rational::from_f64(f64::MAX).unwrap();
+        assert_eq!(huge.to_f64(), f64::MAX);
+        assert!(Rational::from_f64(f64::NAN).is_none());
+    }
+
+    #[test]
+    fn arithmetic_and_order() {
+        let a = Rational::new(Int::from(1), Int::from(3));
+        let b = Rational::new(Int::from(-2), Int::from(-6));
+        assert_eq!(a, b);
+        let c = a.add(&Rational::from_f64(0.5).unwrap());
+        assert_eq!(c, Rational::new(Int::from(5), Int::from(6)));
+        assert!(a < c);
+        assert!(a.neg() < a);
+        assert_eq!(c.mul(&a).div(&a), c);
+        assert_eq!(Rational::new(Int::from(-7), Int::from(2)).floor(), Int::from(-4));
+        let iv = a.interval();
+        assert!(iv.lo < 1.0 / 3.0 + 1e-17 && iv.hi > 1.0 / 3.0 - 1e-17 && iv.lo <= iv.hi);
+    }
+
+    #[test]
+    fn large_values_convert() {
+        let big = Rational::new(Int::ONE << 3000, (Int::ONE << 2990) * Int::from(3));
+        let x = big.to_f64();
+        assert!((x - 1024.0 / 3.0).abs() < 1e-12);
+        let iv = big.interval();
+        assert!(iv.lo <= 1024.0 / 3.0 && iv.hi >= 1024.0 / 3.0);
+    }
+}

@@ -1,0 +1,435 @@
+//! The exact event time: a rational, or an irrational root of an integer
+//! quadratic, with a filtered exact total order.
+//!
+//! Every certificate function under piecewise-linear translation is a
+//! polynomial of degree at most two in `t`, so every event time is of the form
+//! `(-b ± √d) / 2a` with integers `a, b, d`. A [`Time`] carries an outward
+//! rounded f64 enclosure; comparisons whose enclosures are disjoint are
+//! decided by it, the others by exact integer arithmetic
+//! ([`super::sign_a_plus_b_sqrt_plus_c_sqrt`]).
+
+use std::cmp::Ordering;
+use std::fmt;
+use std::hash::{Hash, Hasher};
+
+use dashu_base::{Gcd, SquareRoot};
+
+use super::{count_exact, count_filtered, Int, Interval, Rational};
+
+/// An exact point in time.
+#[derive(Clone)]
+pub struct Time {
+    kind: Kind,
+    iv: Interval,
+}
+
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Kind {
+    Rat(Rational),
+    /// The root `(-b + s·√d) / 2a` of the primitive irreducible `a t² + b t + c`
+    /// with `a > 0`, `d = b² − 4ac > 0` not a square; `s = +1` if `plus`.
+    Root(QuadRoot),
+}
+
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub(crate) struct QuadRoot {
+    pub(crate) a: Int,
+    pub(crate) b: Int,
+    pub(crate) c: Int,
+    pub(crate) d: Int,
+    pub(crate) plus: bool,
+}
+
+impl QuadRoot {
+    fn s(&self, x: &Int) -> Int {
+        if self.plus {
+            x.clone()
+        } else {
+            -x.clone()
+        }
+    }
+
+    /// Rational bounds `(lo, hi)` on the root with `√d` known to `k` bits.
+    fn bounds(&self, k: usize) -> (Rational, Rational) {
+        let s = (&self.d << (2 * k)).unsigned_abs_owned().sqrt();
+        let s = Int::from(s);
+        let base = -(&self.b << k);
+        let den = (&self.a << (k + 1)).clone();
+        let (lo, hi) = if self.plus {
+            (&base + &s, &base + &s + Int::ONE)
+        } else {
+            (&base - &s - Int::ONE, &base - &s)
+        };
+        (Rational::new(lo, den.clone()), Rational::new(hi, den))
+    }
+
+    fn enclosure(&self) -> Interval {
+        // Fast path: interval arithmetic with the stable formula.
+        let a = Interval::of_int(&self.a);
+        let b = Interval::of_int(&self.b);
+        let c = Interval::of_int(&self.c);
+        let d = Interval::of_int(&self.d);
+        if a.is_finite() && b.is_finite() && c.is_finite() && d.is_finite() {
+            let sq = d.sqrt();
+            let two = Interval::point(2.0);
+            // q = -(b + sign(b)·√d)/2 has no cancellation; roots are q/a and c/q.
+            let b_nonneg = self.b >= Int::ZERO;
+            let q = if b_nonneg {
+                b.add(sq).neg().div(two)
+            } else {
+                sq.sub(b).div(two)
+            };
+            // For b >= 0, q/a is the smaller root (the minus one); for b < 0, the larger.
+            let iv = if self.plus != b_nonneg { q.div(a) } else { c.div(q) };
+            if iv.is_finite() && iv.width() <= iv.lo.abs().max(iv.hi.abs()) * 1e-14 {
+                return iv;
+            }
+        }
+        // Exact refinement with integer square roots.
+        let mut k = 64usize;
+        loop {
+            let (lo, hi) = self.bounds(k);
+            let iv = lo.interval().hull(&hi.interval());
+            let mag = iv.lo.abs().max(iv.hi.abs());
+            if (iv.is_finite() && iv.width() <= mag * 1e-15) || k > 4096 {
+                return iv;
+            }
+            k *= 2;
+        }
+    }
+}
+
+trait OwnedAbs {
+    fn unsigned_abs_owned(&self) -> dashu_int::UBig;
+}
+
+impl OwnedAbs for Int {
+    fn unsigned_abs_owned(&self) -> dashu_int::UBig {
+        use dashu_base::UnsignedAbs;
+        self.clone().unsigned_abs()
+    }
+}
+
+impl Time {
+    /// Time zero.
+    pub fn zero() -> Time {
+        Time::from_rational(Rational::zero())
+    }
+
+    /// An exact rational time.
+    pub fn from_rational(r: Rational) -> Time {
+        let iv = exact_point(&r).unwrap_or_else(|| r.interval());
+        Time {
+            kind: Kind::Rat(r),
+            iv,
+        }
+    }
+
+    /// The exact value of a finite double; `None` for NaN or infinities.
+    pub fn from_f64(x: f64) -> Option<Time> {
+        let r = Rational::from_f64(x)?;
+        Some(Time {
+            kind: Kind::Rat(r),
+            iv: Interval::point(x),
+        })
+    }
+
+    /// The root `(-b + s·√d)/2a` of `a t² + b t + c` (`a != 0`, discriminant
+    /// `d = b² − 4ac >= 0`), the larger one if `larger`. Returns a rational
+    /// time when the root is rational.
+    pub(crate) fn quadratic_root(a: &Int, b: &Int, c: &Int, larger: bool) -> Time {
+        let (mut a, mut b, mut c) = (a.clone(), b.clone(), c.clone());
+        assert!(!a.is_zero(), "quadratic_root of a linear polynomial");
+        let mut larger = larger;
+        if a < Int::ZERO {
+            a = -a;
+            b = -b;
+            c = -c;
+            // negating the polynomial keeps its roots; the order of the two
+            // roots is by value, so `larger` is unchanged.
+            let _ = &mut larger;
+        }
+        let g = Int::from((&a).gcd(&b));
+        let g = Int::from((&g).gcd(&c));
+        if g > Int::ONE {
+            a /= &g;
+            b /= &g;
+            c /= &g;
+        }
+        let d = &b * &b - Int::from(4) * &a * &c;
+        assert!(d >= Int::ZERO, "quadratic_root with a negative discriminant");
+        let sq = Int::from(d.unsigned_abs_owned().sqrt());
+        if &sq * &sq == d {
+            let num = if larger { -&b + &sq } else { -&b - &sq };
+            return Time::from_rational(Rational::new(num, Int::from(2) * &a));
+        }
+        let root = QuadRoot {
+            a,
+            b,
+            c,
+            d,
+            plus: larger,
+        };
+        let iv = root.enclosure();
+        Time {
+            kind: Kind::Root(root),
+            iv,
+        }
+    }
+
+    /// The rational value, if this time is rational.
+    pub fn as_rational(&self) -> Option<&Rational> {
+        match &self.kind {
+            Kind::Rat(r) => Some(r),
+            Kind::Root(_) => None,
+        }
+    }
+
+    pub(crate) fn as_root(&self) -> Option<&QuadRoot> {
+        match &self.kind {
+            Kind::Rat(_) => None,
+            Kind::Root(q) => Some(q),
+        }
+    }
+
+    /// A rigorous f64 enclosure of this time.
+    pub fn interval(&self) -> Interval {
+        self.iv
+    }
+
+    /// The time as a double, within a relative error far below 1e-12 (for
+    /// display and output only).
+    pub fn to_f64(&self) -> f64 {
+        match &self.kind {
+            Kind::Rat(r) => r.to_f64(),
+            Kind::Root(q) => {
+                let (lo, _) = q.bounds(128);
+                lo.to_f64()
+            }
+        }
+    }
+
+    /// Rational lower and upper bounds, at least as tight as `2^-k` relative
+    /// (exact for rational times).
+    fn bounds(&self, k: usize) -> (Rational, Rational) {
+        match &self.kind {
+            Kind::Rat(r) => (r.clone(), r.clone()),
+            Kind::Root(q) => q.bounds(k),
+        }
+    }
+
+    /// A rational strictly between `self` and `later`; panics unless
+    /// `self < later` (a bug in the caller). Used to audit a structure at an
+    /// instant where no certificate is degenerate.
+    pub fn rational_between(&self, later: &Time) -> Rational {
+        assert!(self < later, "rational_between needs self < later");
+        // Try a short double between the enclosures first.
+        if self.iv.hi < later.iv.lo {
+            if let Some(m) = simple_between(self.iv.hi, later.iv.lo) {
+                let r = Rational::from_f64(m).expect("finite");
+                let t = Time::from_rational(r.clone());
+                if *self < t && t < *later {
+                    return r;
+                }
+            }
+        }
+        let mut k = 64;
+        loop {
+            let (_, a_hi) = self.bounds(k);
+            let (b_lo, _) = later.bounds(k);
+            if a_hi < b_lo {
+                let m = a_hi.midpoint(&b_lo);
+                // strictly inside because a <= a_hi < m < b_lo <= b
+                return m;
+            }
+            if let (Some(a), Some(b)) = (self.as_rational(), later.as_rational()) {
+                return a.midpoint(b);
+            }
+            k *= 2;
+        }
+    }
+
+    fn exact_cmp(&self, other: &Time) -> Ordering {
+        match (&self.kind, &other.kind) {
+            (Kind::Rat(x), Kind::Rat(y)) => x.cmp(y),
+            (Kind::Root(x), Kind::Rat(r)) => root_cmp_rational(x, r),
+            (Kind::Rat(r), Kind::Root(x)) => root_cmp_rational(x, r).reverse(),
+            (Kind::Root(x), Kind::Root(y)) => {
+                if x == y {
+                    return Ordering::Equal;
+                }
+                // x1 − x2 = [a2(−b1 + s1√d1) − a1(−b2 + s2√d2)] / (2 a1 a2)
+                let a = &x.a * &y.b - &y.a * &x.b;
+                let b = x.s(&y.a);
+                let c = -y.s(&x.a);
+                super::sign_a_plus_b_sqrt_plus_c_sqrt(&a, &b, &x.d, &c, &y.d).to_ordering()
+            }
+        }
+    }
+}
+
+/// Sign of `x − p/q` for an irrational quadratic root `x`.
+fn root_cmp_rational(x: &QuadRoot, r: &Rational) -> Ordering {
+    // x − p/q = (−b q − 2 a p + s q √d) / (2 a q)
+    let p = r.numer();
+    let q = r.denom();
+    let a = -(&x.b * q) - Int::from(2) * &x.a * p;
+    let b = x.s(q);
+    super::sign_a_plus_b_sqrt(&a, &b, &x.d).to_ordering()
+}
+
+/// The double `x` exactly equal to `r`, as a point interval, if there is one.
+fn exact_point(r: &Rational) -> Option<Interval> {
+    if !r.is_dyadic() {
+        return None;
+    }
+    let x = r.to_f64();
+    if !x.is_finite() {
+        return None;
+    }
+    let back = Rational::from_f64(x)?;
+    (back == *r).then(|| Interval::point(x))
+}
+
+/// A double with few significant bits strictly between `lo < hi`, if any.
+fn simple_between(lo: f64, hi: f64) -> Option<f64> {
+    if !(lo < hi) || !lo.is_finite() || !hi.is_finite() {
+        return None;
+    }
+    let mid = lo * 0.5 + hi * 0.5;
+    if !(lo < mid && mid < hi) {
+        return None;
+    }
+    // Round the midpoint to as few bits as stay strictly inside.
+    let mut best = mid;
+    for bits in (1..=52).rev() {
+        let scale = 2f64.powi(bits - mid.abs().log2().floor() as i32);
+        if !scale.is_finite() || scale == 0.0 {
+            continue;
+        }
+        let cand = (mid * scale).round() / scale;
+        if lo < cand && cand < hi {
+            best = cand;
+        } else {
+            break;
+        }
+    }
+    Some(best)
+}
+
+impl PartialEq for Time {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Time {}
+
+impl Hash for Time {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        // Rationals are reduced and irrational roots carry their primitive
+        // minimal polynomial, so equal times have equal representations.
+        self.kind.hash(state);
+    }
+}
+
+impl PartialOrd for Time {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Time {
+    fn cmp(&self, other: &Self) -> Ordering {
+        let (a, b) = (&self.iv, &other.iv);
+        if a.hi < b.lo {
+            count_filtered();
+            return Ordering::Less;
+        }
+        if b.hi < a.lo {
+            count_filtered();
+            return Ordering::Greater;
+        }
+        if a.lo == a.hi && b.lo == b.hi && a.lo == b.lo {
+            // Point enclosures are only given to times that equal that double.
+            if matches!(self.kind, Kind::Rat(_)) && matches!(other.kind, Kind::Rat(_)) {
+                count_filtered();
+                return Ordering::Equal;
+            }
+        }
+        count_exact();
+        self.exact_cmp(other)
+    }
+}
+
+impl fmt::Debug for Time {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.kind {
+            Kind::Rat(r) => write!(f, "Time({r:?})"),
+            Kind::Root(q) => write!(
+                f,
+                "Time(root{} of {}t²+{}t+{} ≈{:e})",
+                if q.plus { "+" } else { "-" },
+                q.a,
+                q.b,
+                q.c,
+                self.to_f64()
+            ),
+        }
+    }
+}
+
+impl fmt::Display for Time {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.to_f64())
+    }
+}
+
+impl From<Rational> for Time {
+    fn from(r: Rational) -> Time {
+        Time::from_rational(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn int(x: i64) -> Int {
+        Int::from(x)
+    }
+
+    #[test]
+    fn roots_and_order() {
+        // t² − 2 = 0: ±√2
+        let p = Time::quadratic_root(&int(1), &int(0), &int(-2), true);
+        let m = Time::quadratic_root(&int(1), &int(0), &int(-2), false);
+        assert!(m < p);
+        assert!((p.to_f64() - 2f64.sqrt()).abs() < 1e-15);
+        assert!(p > Time::from_f64(1.4142135623730950).unwrap());
+        assert!(p < Time::from_f64(1.4142135623730951).unwrap());
+        // 2t² − 4 = 0 is the same root: equal, same hash
+        let p2 = Time::quadratic_root(&int(-2), &int(0), &int(4), true);
+        assert_eq!(p, p2);
+        // perfect square discriminant: rational
+        let r = Time::quadratic_root(&int(1), &int(-3), &int(2), true);
+        assert_eq!(r.as_rational(), Some(&Rational::from_int(int(2))));
+        // sqrt(2) vs sqrt(8)/2
+        let q = Time::quadratic_root(&int(4), &int(0), &int(-8), true);
+        assert_eq!(p, q);
+    }
+
+    #[test]
+    fn between() {
+        let a = Time::from_f64(1.0).unwrap();
+        let b = Time::from_f64(1.0f64.next_up()).unwrap();
+        let m = Time::from_rational(a.rational_between(&b));
+        assert!(a < m && m < b);
+        let p = Time::quadratic_root(&int(1), &int(0), &int(-2), true);
+        let r = Time::from_rational(Rational::new(int(1414213562373095), int(1000000000000000)));
+        assert!(r < p);
+        let m = Time::from_rational(r.rational_between(&p));
+        assert!(r < m && m < p);
+        assert!(p > Time::zero());
+    }
+}
