@@ -1,1 +1,437 @@
-//! brute (in progress)
+//! The brute-force reference: all-pairs exact first-contact times under
+//! piecewise-linear translation, event-driven over flight-plan changes.
+//!
+//! It is the test oracle for every structure and the naive baseline in the
+//! benchmarks, so it is kept simple. Two independent ways to compute when a
+//! pair touches are provided and tested against each other:
+//!
+//! * [`PairMethod::Simple`], `O(n·m)`: every vertex against every edge of the
+//!   other polygon, in exact rationals;
+//! * [`PairMethod::Fast`], `O(n + m)`: the relative position `d(t)` of the two
+//!   bodies against the half-planes of their Minkowski difference.
+//!
+//! Both compute the closed interval of times during which the two (linearly
+//! extrapolated) polygons share a point, and whether their interiors overlap
+//! during it. A pair's next collision after `now` is the start of that
+//! interval if it lies after `now`; if the pair already touches at `now` (only
+//! possible in `bounce` mode), it collides at `now` exactly when the motion
+//! makes the interiors overlap right after `now`, and not at all while it
+//! slides or separates.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+use crate::geom::{for_each_minkowski_edge, orient, Point};
+use crate::num::{Int, Rational, Sign, Time};
+use crate::world::{BodyId, World};
+
+/// How the reference computes a pair's contact interval.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PairMethod {
+    /// Vertex against edge, `O(n·m)` per pair.
+    Simple,
+    /// Minkowski difference, `O(n + m)` per pair.
+    #[default]
+    Fast,
+}
+
+/// The closed interval of times (over the whole real line, motions
+/// extrapolated linearly) during which two polygons share a point.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ContactInterval {
+    /// They never touch.
+    Never,
+    /// They share a point for `t` in `[start, end]` (`None`: unbounded).
+    During {
+        /// First time they share a point (`None`: always did).
+        start: Option<Rational>,
+        /// Last time they share a point (`None`: always will).
+        end: Option<Rational>,
+        /// Whether their interiors overlap inside the interval (otherwise
+        /// they only graze or slide along each other).
+        penetrating: bool,
+    },
+}
+
+impl ContactInterval {
+    /// The pair's next collision at or after `now` (see module docs).
+    pub fn next_contact(&self, now: &Rational) -> Option<Rational> {
+        match self {
+            ContactInterval::Never => None,
+            ContactInterval::During {
+                start,
+                end,
+                penetrating,
+            } => {
+                if let Some(s) = start {
+                    if s > now {
+                        return Some(s.clone());
+                    }
+                }
+                let before_end = end.as_ref().is_none_or(|e| now < e);
+                (*penetrating && before_end).then(|| now.clone())
+            }
+        }
+    }
+}
+
+/// Relative motion `d(t) = pos_a(t) − pos_b(t) = d0 + w·t`.
+fn relative_motion(world: &World, a: BodyId, b: BodyId) -> (Point, Point) {
+    let (ba, bb) = (world.body(a), world.body(b));
+    let d0 = ba.traj.origin().sub(bb.traj.origin());
+    let w = ba.traj.velocity().sub(bb.traj.velocity());
+    (d0, w)
+}
+
+/// The contact interval of bodies `a` and `b` on their current pieces.
+pub fn contact_interval(
+    world: &World,
+    a: BodyId,
+    b: BodyId,
+    method: PairMethod,
+) -> ContactInterval {
+    match method {
+        PairMethod::Simple => simple_interval(world, a, b),
+        PairMethod::Fast => fast_interval(world, a, b),
+    }
+}
+
+fn lcm(a: &Int, b: &Int) -> Int {
+    use dashu_base::Gcd;
+    if a == b {
+        return a.clone();
+    }
+    let g = Int::from(a.gcd(b));
+    a / &g * b
+}
+
+/// Minkowski difference: `A(t) ∩ B(t) ≠ ∅` iff `d(t) ∈ M = B ⊕ (−A)`; each
+/// edge of `M` gives a linear constraint `α·t <= β`.
+fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
+    let (d0, w) = relative_motion(world, a, b);
+    let mut den = d0.x.denom().clone();
+    for r in [&d0.y, &w.x, &w.y] {
+        den = lcm(&den, r.denom());
+    }
+    let sc = |r: &Rational| r.numer() * (&den / r.denom());
+    let (mut dx, mut dy, mut wx, mut wy) = (sc(&d0.x), sc(&d0.y), sc(&w.x), sc(&w.y));
+    let mut edges = Vec::new();
+    let exp = for_each_minkowski_edge(&world.body(a).shape, &world.body(b).shape, |e| {
+        edges.push(e)
+    });
+    // n·d(t) <= h·2^exp  ⇔  n·(D0 + W t) <= h·den·2^exp (all scaled to integers)
+    let rhs_scale = if exp >= 0 {
+        &den << exp as usize
+    } else {
+        let s = (-exp) as usize;
+        dx <<= s;
+        dy <<= s;
+        wx <<= s;
+        wy <<= s;
+        den.clone()
+    };
+    // t_in = max over α<0 of β/α, t_out = min over α>0 of β/α, as (num, den>0)
+    let mut t_in: Option<(Int, Int)> = None;
+    let mut t_out: Option<(Int, Int)> = None;
+    let mut parallel_strict = true;
+    for e in &edges {
+        let alpha = &e.nx * &wx + &e.ny * &wy;
+        let beta = &e.h * &rhs_scale - (&e.nx * &dx + &e.ny * &dy);
+        match Sign::of(&alpha) {
+            Sign::Zero => match Sign::of(&beta) {
+                Sign::Negative => return ContactInterval::Never,
+                Sign::Zero => parallel_strict = false,
+                Sign::Positive => {}
+            },
+            Sign::Negative => {
+                let f = (-beta, -alpha);
+                if t_in.as_ref().is_none_or(|g| frac_cmp(&f, g).is_gt()) {
+                    t_in = Some(f);
+                }
+            }
+            Sign::Positive => {
+                let f = (beta, alpha);
+                if t_out.as_ref().is_none_or(|g| frac_cmp(&f, g).is_lt()) {
+                    t_out = Some(f);
+                }
+            }
+        }
+    }
+    if let (Some(i), Some(o)) = (&t_in, &t_out) {
+        if frac_cmp(i, o).is_gt() {
+            return ContactInterval::Never;
+        }
+    }
+    let nonzero_length = match (&t_in, &t_out) {
+        (Some(i), Some(o)) => frac_cmp(i, o).is_lt(),
+        _ => true,
+    };
+    ContactInterval::During {
+        start: t_in.map(|(n, d)| Rational::new(n, d)),
+        end: t_out.map(|(n, d)| Rational::new(n, d)),
+        penetrating: nonzero_length && parallel_strict,
+    }
+}
+
+fn frac_cmp(x: &(Int, Int), y: &(Int, Int)) -> std::cmp::Ordering {
+    (&x.0 * &y.1).cmp(&(&y.0 * &x.1))
+}
+
+/// Vertex against edge, both ways, in exact rationals.
+fn simple_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
+    let (d0, w) = relative_motion(world, a, b);
+    let mut start: Option<Option<Rational>> = None; // Some(None) = −∞
+    let mut end: Option<Option<Rational>> = None; // Some(None) = +∞
+    let mut touch = |lo: Option<Rational>, hi: Option<Rational>| {
+        start = Some(match (start.take(), lo) {
+            (None, lo) => lo,
+            (Some(None), _) | (_, None) => None,
+            (Some(Some(s)), Some(l)) => Some(if l < s { l } else { s }),
+        });
+        end = Some(match (end.take(), hi) {
+            (None, hi) => hi,
+            (Some(None), _) | (_, None) => None,
+            (Some(Some(e)), Some(h)) => Some(if h > e { h } else { e }),
+        });
+    };
+    // Vertex p of P (relative offset rel0 + rel_w t from Q's frame) against
+    // edge (q, r) of Q.
+    let mut vertex_edges = |p_body: BodyId, q_body: BodyId, sign: &Rational| {
+        let (pb, qb) = (world.body(p_body), world.body(q_body));
+        // position of p relative to Q's frame: sign·d(t) + p_i (d = a − b)
+        let base0 = d0.scale(sign);
+        let basew = w.scale(sign);
+        let m = qb.shape.len();
+        for i in 0..pb.shape.len() {
+            let pi = pb.shape.vertex(i);
+            for j in 0..m {
+                let q = qb.shape.vertex(j);
+                let r = qb.shape.vertex((j + 1) % m);
+                let e = r.sub(&q);
+                // rel(t) = base0 + p_i − q + basew·t
+                let rel0 = base0.add(&pi).sub(&q);
+                // on the line: e × rel(t) = 0
+                let c0 = e.cross(&rel0);
+                let c1 = e.cross(&basew);
+                // position along the edge: e · rel(t) ∈ [0, e·e]
+                let s0 = e.dot(&rel0);
+                let s1 = e.dot(&basew);
+                let ee = e.dot(&e);
+                if !c1.is_zero() {
+                    let t = c0.neg().div(&c1);
+                    let s = s0.add(&s1.mul(&t));
+                    if s.sign() != Sign::Negative && s <= ee {
+                        touch(Some(t.clone()), Some(t));
+                    }
+                } else if c0.is_zero() {
+                    // moving along the edge's line
+                    if s1.is_zero() {
+                        if s0.sign() != Sign::Negative && s0 <= ee {
+                            touch(None, None);
+                        }
+                    } else {
+                        let t0 = s0.neg().div(&s1);
+                        let t1 = ee.sub(&s0).div(&s1);
+                        let (lo, hi) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
+                        touch(Some(lo), Some(hi));
+                    }
+                }
+            }
+        }
+    };
+    let one = Rational::one();
+    vertex_edges(a, b, &one);
+    vertex_edges(b, a, &one.neg());
+    let (Some(start), Some(end)) = (start, end) else {
+        return ContactInterval::Never;
+    };
+    // Interiors overlap somewhere inside iff they do at an inner instant.
+    let inner = match (&start, &end) {
+        (Some(s), Some(e)) if s < e => Some(s.midpoint(e)),
+        (Some(_), Some(_)) => None,
+        (Some(s), None) => Some(s.add(&one)),
+        (None, Some(e)) => Some(e.sub(&one)),
+        (None, None) => Some(Rational::zero()),
+    };
+    let penetrating = inner.is_some_and(|t| interiors_overlap(world, a, b, &t));
+    ContactInterval::During {
+        start,
+        end,
+        penetrating,
+    }
+}
+
+/// Whether the interiors of two bodies overlap at time `t` (no edge line of
+/// either weakly separates them).
+pub fn interiors_overlap(world: &World, a: BodyId, b: BodyId, t: &Rational) -> bool {
+    let pa: Vec<Point> = (0..world.body(a).shape.len())
+        .map(|i| world.body(a).vertex_at(i, t))
+        .collect();
+    let pb: Vec<Point> = (0..world.body(b).shape.len())
+        .map(|i| world.body(b).vertex_at(i, t))
+        .collect();
+    let weakly_separates = |p: &[Point], q: &[Point]| {
+        (0..p.len()).any(|i| {
+            let (u, v) = (&p[i], &p[(i + 1) % p.len()]);
+            q.iter().all(|x| orient(u, v, x) != Sign::Positive)
+        })
+    };
+    !(weakly_separates(&pa, &pb) || weakly_separates(&pb, &pa))
+}
+
+/// The brute-force engine: every active pair's next collision in one ordered set.
+#[derive(Clone, Debug)]
+pub struct Brute {
+    method: PairMethod,
+    queue: BTreeSet<(Time, BodyId, BodyId)>,
+    pair_time: HashMap<(BodyId, BodyId), Time>,
+    max_queued: usize,
+    pair_computations: u64,
+}
+
+impl Brute {
+    /// Compute every pair's next collision at time 0.
+    pub fn new(world: &World, method: PairMethod) -> Brute {
+        let mut brute = Brute {
+            method,
+            queue: BTreeSet::new(),
+            pair_time: HashMap::new(),
+            max_queued: 0,
+            pair_computations: 0,
+        };
+        let now = Rational::zero();
+        let n = world.len() as u32;
+        for i in 0..n {
+            for j in i + 1..n {
+                brute.recompute(world, &now, BodyId(i), BodyId(j));
+            }
+        }
+        brute
+    }
+
+    fn recompute(&mut self, world: &World, now: &Rational, a: BodyId, b: BodyId) {
+        let key = (a.min(b), a.max(b));
+        if let Some(t) = self.pair_time.remove(&key) {
+            self.queue.remove(&(t, key.0, key.1));
+        }
+        if !world.pair_active(a, b) {
+            return;
+        }
+        self.pair_computations += 1;
+        let next = contact_interval(world, key.0, key.1, self.method).next_contact(now);
+        if let Some(t) = next {
+            let t = Time::from_rational(t);
+            if t <= *world.until() {
+                self.queue.insert((t.clone(), key.0, key.1));
+                self.pair_time.insert(key, t);
+                self.max_queued = self.max_queued.max(self.queue.len());
+            }
+        }
+    }
+
+    /// The earliest collision time at most `limit` and every pair colliding then.
+    pub fn next_collisions(&mut self, limit: &Time) -> Option<(Time, Vec<(BodyId, BodyId)>)> {
+        let (t0, _, _) = self.queue.first()?.clone();
+        if t0 > *limit {
+            return None;
+        }
+        let pairs = self
+            .queue
+            .iter()
+            .take_while(|(t, _, _)| *t == t0)
+            .map(|(_, a, b)| (*a, *b))
+            .collect();
+        Some((t0, pairs))
+    }
+
+    /// After the world changed at `now`: recompute the reported pairs and
+    /// every pair of a changed or removed body.
+    pub fn update(
+        &mut self,
+        world: &World,
+        now: &Rational,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) {
+        for &(a, b) in reported {
+            self.recompute(world, now, a, b);
+        }
+        let n = world.len() as u32;
+        let mut done: BTreeSet<(BodyId, BodyId)> = BTreeSet::new();
+        for &c in bodies {
+            for o in 0..n {
+                let o = BodyId(o);
+                if o == c {
+                    continue;
+                }
+                let key = (c.min(o), c.max(o));
+                if done.insert(key) {
+                    self.recompute(world, now, key.0, key.1);
+                }
+            }
+        }
+    }
+
+    /// Number of queued pair times (the brute force's "certificates").
+    pub fn queued(&self) -> usize {
+        self.queue.len()
+    }
+
+    /// Largest number of queued pair times so far.
+    pub fn max_queued(&self) -> usize {
+        self.max_queued
+    }
+
+    /// Number of pair computations so far.
+    pub fn pair_computations(&self) -> u64 {
+        self.pair_computations
+    }
+
+    /// The earliest queued time, if any.
+    pub fn next_time(&self) -> Option<&Time> {
+        self.queue.first().map(|(t, _, _)| t)
+    }
+
+    /// Check every cached pair time against a fresh computation by the other
+    /// method, and that no two active bodies overlap at the instant `at`.
+    pub fn audit(&self, world: &World, now: &Rational, at: &Rational) -> Result<(), String> {
+        let other = match self.method {
+            PairMethod::Simple => PairMethod::Fast,
+            PairMethod::Fast => PairMethod::Simple,
+        };
+        let n = world.len() as u32;
+        for i in 0..n {
+            for j in i + 1..n {
+                let (a, b) = (BodyId(i), BodyId(j));
+                if !world.pair_active(a, b) {
+                    continue;
+                }
+                let fresh = contact_interval(world, a, b, other)
+                    .next_contact(now)
+                    .map(Time::from_rational)
+                    .filter(|t| t <= world.until());
+                let cached = self.pair_time.get(&(a, b)).cloned();
+                if fresh != cached {
+                    return Err(format!(
+                        "pair ({}, {}): cached next contact {:?}, fresh {:?}",
+                        world.body(a).id,
+                        world.body(b).id,
+                        cached,
+                        fresh
+                    ));
+                }
+                if interiors_overlap(world, a, b, at) {
+                    return Err(format!(
+                        "bodies {} and {} overlap at {}",
+                        world.body(a).id,
+                        world.body(b).id,
+                        at
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Counters by event kind (for statistics).
+pub type KindCounts = BTreeMap<String, u64>;

@@ -2,8 +2,10 @@
 
 use std::collections::BTreeMap;
 
-use crate::num::Time;
-use crate::scenario::{Scenario, ScenarioError};
+use crate::brute::{Brute, PairMethod};
+use crate::num::{Rational, Time};
+use crate::scenario::{CollisionMode, Scenario, ScenarioError};
+use crate::world::{BodyId, World};
 
 /// Which kinetic structure computes the collisions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -94,8 +96,10 @@ pub fn run(
     options: &RunOptions,
     on_event: &mut dyn FnMut(&CollisionEvent),
 ) -> Result<RunStats, RunError> {
-    let _ = (scenario, on_event);
-    Err(RunError::NotImplemented(options.structure.name()))
+    let mut world = World::new(scenario, options.until)?;
+    let mut engine = make_engine(&world, options)?;
+    let stats = drive(&mut world, engine.as_mut(), options, None, on_event)?;
+    Ok(stats)
 }
 
 /// Run `scenario` up to `time` (collisions handled as in [`run`]) and return
@@ -105,6 +109,230 @@ pub fn snapshot_at(
     options: &RunOptions,
     time: f64,
 ) -> Result<crate::render::Snapshot, RunError> {
-    let _ = (scenario, time);
-    Err(RunError::NotImplemented(options.structure.name()))
+    let t = Time::from_f64(time).ok_or_else(|| RunError::Internal(format!("bad time {time}")))?;
+    let mut world = World::new(scenario, options.until)?;
+    let mut engine = make_engine(&world, options)?;
+    drive(&mut world, engine.as_mut(), options, Some(&t), &mut |_| {})?;
+    let polygons = world
+        .bodies()
+        .iter()
+        .filter(|b| b.alive)
+        .map(|b| crate::render::SnapshotPolygon {
+            id: b.id.clone(),
+            vertices: (0..b.shape.len())
+                .map(|i| b.vertex(i).at_f64(time))
+                .collect(),
+            fixed: b.fixed,
+            velocity: b.traj.velocity().to_f64(),
+        })
+        .collect();
+    Ok(crate::render::Snapshot { time, polygons })
+}
+
+/// A structure that finds collisions, driven by [`drive`].
+trait Engine {
+    /// Process internal events up to the earliest collision time at most
+    /// `limit`; return that time and every pair colliding then.
+    fn next_collisions(
+        &mut self,
+        world: &World,
+        limit: &Time,
+    ) -> Result<Option<(Time, Vec<(BodyId, BodyId)>)>, RunError>;
+    /// The world changed at `now`: `bodies` changed trajectory or were
+    /// removed; `reported` were just reported as colliding.
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError>;
+    /// The time of the next internal event, if any (for choosing audit instants).
+    fn next_time(&self) -> Option<Time>;
+    /// Check every invariant at the rational instant `at` (strictly between
+    /// events; `now` is the last event time).
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String>;
+    /// Active certificates now and at most.
+    fn certificates(&self) -> (u64, u64);
+    /// Internal events by kind.
+    fn internal_events(&self) -> BTreeMap<String, u64>;
+}
+
+struct BruteEngine(Brute);
+
+impl Engine for BruteEngine {
+    fn next_collisions(
+        &mut self,
+        _world: &World,
+        limit: &Time,
+    ) -> Result<Option<(Time, Vec<(BodyId, BodyId)>)>, RunError> {
+        Ok(self.0.next_collisions(limit))
+    }
+
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        let now = now
+            .as_rational()
+            .ok_or_else(|| RunError::Internal("irrational world time".into()))?;
+        self.0.update(world, now, bodies, reported);
+        Ok(())
+    }
+
+    fn next_time(&self) -> Option<Time> {
+        self.0.next_time().cloned()
+    }
+
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        let now = now.as_rational().ok_or("irrational world time")?;
+        self.0.audit(world, now, at)
+    }
+
+    fn certificates(&self) -> (u64, u64) {
+        (self.0.queued() as u64, self.0.max_queued() as u64)
+    }
+
+    fn internal_events(&self) -> BTreeMap<String, u64> {
+        BTreeMap::new()
+    }
+}
+
+fn make_engine(world: &World, options: &RunOptions) -> Result<Box<dyn Engine>, RunError> {
+    match options.structure {
+        StructureKind::Brute => Ok(Box::new(BruteEngine(Brute::new(world, PairMethod::Fast)))),
+        other => Err(RunError::NotImplemented(other.name())),
+    }
+}
+
+/// The simulation loop shared by every structure: collisions at an instant
+/// come before the flight-plan changes of that instant; `stop`, `remove` and
+/// `bounce` are applied by the [`World`]. With `stop_at`, the run ends at
+/// that time (for snapshots).
+fn drive(
+    world: &mut World,
+    engine: &mut dyn Engine,
+    options: &RunOptions,
+    stop_at: Option<&Time>,
+    on_event: &mut dyn FnMut(&CollisionEvent),
+) -> Result<RunStats, RunError> {
+    let mut stats = RunStats {
+        structure: options.structure.name(),
+        polygons: world.len(),
+        vertices: world.bodies().iter().map(|b| b.shape.len()).sum(),
+        ..RunStats::default()
+    };
+    let mut collisions = 0u64;
+    let mut changes = 0u64;
+    let mut now = Time::zero();
+    let end = match stop_at {
+        Some(t) if t < world.until() => t.clone(),
+        _ => world.until().clone(),
+    };
+    if options.audit {
+        audit(world, engine, &now, &end)?;
+    }
+    loop {
+        let limit = match world.next_change_time() {
+            Some(t) if *t < end => t.clone(),
+            _ => end.clone(),
+        };
+        if let Some((t, pairs)) = engine.next_collisions(world, &limit)? {
+            let tr = t
+                .as_rational()
+                .ok_or_else(|| RunError::Internal("irrational collision time".into()))?
+                .clone();
+            let mut named: Vec<(&str, &str, BodyId, BodyId)> = pairs
+                .iter()
+                .map(|&(a, b)| {
+                    let (ia, ib) = (world.body(a).id.as_str(), world.body(b).id.as_str());
+                    if ia.as_bytes() <= ib.as_bytes() {
+                        (ia, ib, a, b)
+                    } else {
+                        (ib, ia, b, a)
+                    }
+                })
+                .collect();
+            named.sort_by(|x, y| {
+                (x.0.as_bytes(), x.1.as_bytes()).cmp(&(y.0.as_bytes(), y.1.as_bytes()))
+            });
+            let tf = t.to_f64();
+            for (ia, ib, a, b) in &named {
+                on_event(&CollisionEvent {
+                    time: t.clone(),
+                    a: ia.to_string(),
+                    b: ib.to_string(),
+                    point: world.contact_point(*a, *b, tf),
+                });
+            }
+            collisions += named.len() as u64;
+            let ordered: Vec<(BodyId, BodyId)> = named.iter().map(|x| (x.2, x.3)).collect();
+            now = t;
+            match world.mode() {
+                CollisionMode::Stop => break,
+                CollisionMode::Remove => {
+                    let ids: Vec<BodyId> = ordered.iter().flat_map(|&(a, b)| [a, b]).collect();
+                    let removed = world.remove(&ids);
+                    engine.update(world, &now, &removed, &ordered)?;
+                }
+                CollisionMode::Bounce => {
+                    let changed = world.bounce(&tr, &ordered);
+                    engine.update(world, &now, &changed, &ordered)?;
+                }
+            }
+        } else {
+            match world.next_change_time() {
+                Some(t) if *t <= end && (*t < end || stop_at.is_none()) => {
+                    let t = t.clone();
+                    let changed = world.apply_changes_at(&t);
+                    changes += 1;
+                    now = t;
+                    engine.update(world, &now, &changed, &[])?;
+                }
+                _ => break,
+            }
+        }
+        if options.audit {
+            audit(world, engine, &now, &end)?;
+        }
+    }
+    let (final_certs, max_certs) = engine.certificates();
+    let mut by_kind = engine.internal_events();
+    by_kind.insert("collision".into(), collisions);
+    by_kind.insert("flight_plan_change".into(), changes);
+    stats.events_processed = by_kind.values().sum();
+    stats.events_by_kind = by_kind;
+    stats.certificates_final = final_certs;
+    stats.certificates_max = max_certs;
+    stats.collisions = collisions;
+    Ok(stats)
+}
+
+/// Audit at a rational instant strictly after `now` and before the next event.
+fn audit(world: &World, engine: &dyn Engine, now: &Time, end: &Time) -> Result<(), RunError> {
+    let mut next = end.clone();
+    for t in [engine.next_time(), world.next_change_time().cloned()]
+        .into_iter()
+        .flatten()
+    {
+        if t < next {
+            next = t;
+        }
+    }
+    let at = if *now < next {
+        now.rational_between(&next)
+    } else if *now == *end {
+        // the run ends here: audit a little after the end
+        let r = now.as_rational().cloned().unwrap_or_else(Rational::zero);
+        r.add(&Rational::one())
+    } else {
+        // another event is due at this very instant: audit once it is done
+        return Ok(());
+    };
+    engine
+        .audit(world, now, &at)
+        .map_err(|e| RunError::Internal(format!("audit failed after t = {now}: {e}")))
 }

@@ -103,7 +103,9 @@ pub enum ScenarioError {
         count: usize,
     },
     /// Two consecutive vertices are equal.
-    #[error("polygon {id:?} repeats vertex {index} (it equals the next vertex); remove the duplicate")]
+    #[error(
+        "polygon {id:?} repeats vertex {index} (it equals the next vertex); remove the duplicate"
+    )]
     RepeatedVertex {
         /// The polygon.
         id: String,
@@ -186,4 +188,12 @@ pub enum ScenarioError {
         /// Second polygon of the pair.
         b: String,
     },
+}
+
+impl Scenario {
+    /// Check every rule of the contract that is not about JSON syntax,
+    /// exactly. The first broken rule is reported.
+    pub fn validate(&self) -> Result<(), ScenarioError> {
+        crate::world::World::new(self, None).map(|_| ())
+    }
 }

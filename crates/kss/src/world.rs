@@ -1,1 +1,634 @@
-//! world (in progress)
+//! The world: the table of moving bodies, their flight plans, and the
+//! collision policy (`stop`, `remove`, `bounce`) shared by every structure.
+//!
+//! A structure (brute force, plain or hierarchical KSS) only finds *when* and
+//! *which* polygons collide; the world decides what happens then, so that all
+//! structures see the same trajectories and report the same events.
+//!
+//! ## Bounded numbers in `bounce` mode
+//!
+//! A bounce changes velocities at a rational collision time `t*`. Continuing
+//! exactly from the position at `t*` would make every later collision time
+//! depend on all earlier ones, and the integers would grow without bound. So a
+//! bounced body takes a short *bridge*: from `t*` it moves in a straight line
+//! to a dyadic anchor point `Q` that it reaches at a dyadic time `τ` slightly
+//! after `t*` (`τ − t*` about `2^-36` of `t*`), and from `τ` on it moves with
+//! the new velocity rounded to doubles. `Q` is the exact position the new
+//! velocity would reach at `τ`, rounded to a grid about `2^-30` finer than
+//! the distance covered, in the direction away from the contact partners, so
+//! the bridge velocity differs from the new one by about `2^-30` of it
+//! relatively, and the pair separates. Positions stay continuous, every
+//! contact is still detected exactly, and all numbers after `τ` are dyadic
+//! again, so their size stays bounded however long the run is. The same
+//! bridge is used for a scenario flight-plan change that happens while a body
+//! is on a bridge. `stop` and `remove` runs never need one.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use crate::geom::{for_each_minkowski_edge, BodyPolygon, Point, PolygonDefect};
+use crate::motion::{Frame, LinearPoint, Trajectory};
+use crate::num::{Int, Rational, Sign, Time};
+use crate::scenario::{CollisionMode, Scenario, ScenarioError};
+
+/// Index of a body in the world.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct BodyId(pub u32);
+
+impl BodyId {
+    /// As an index.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// One polygon of the world.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// The scenario id.
+    pub id: String,
+    /// The polygon in its body frame.
+    pub shape: Arc<BodyPolygon>,
+    /// Fixed bodies never move and have infinite mass.
+    pub fixed: bool,
+    /// False once removed (`remove` mode).
+    pub alive: bool,
+    /// Current piece of the path.
+    pub traj: Trajectory,
+    /// `traj` in integer form.
+    pub frame: Frame,
+    /// Area (for bounce masses), as a double.
+    pub area: f64,
+    /// Area centroid in the body frame.
+    pub centroid: Point,
+    /// Pending re-anchoring at the end of a bridge (see module docs).
+    anchor: Option<(Time, u64)>,
+}
+
+impl Body {
+    /// The moving world position of vertex `i` on the current piece.
+    pub fn vertex(&self, i: usize) -> LinearPoint {
+        self.frame.vertex(&self.shape, i)
+    }
+
+    /// Exact world position of vertex `i` at rational time `t`.
+    pub fn vertex_at(&self, i: usize, t: &Rational) -> Point {
+        self.traj.position_at(t).add(&self.shape.vertex(i))
+    }
+
+    fn set_traj(&mut self, traj: Trajectory) {
+        self.frame = Frame::new(&traj, &self.shape);
+        self.traj = traj;
+    }
+}
+
+/// A pending velocity change.
+#[derive(Clone, Debug)]
+struct Change {
+    body: BodyId,
+    velocity: Point,
+    /// `true` for the end of a bridge, `false` for a scenario change.
+    anchor: bool,
+}
+
+/// Ids of bodies whose trajectory changed, for the structure to update.
+pub type Changed = Vec<BodyId>;
+
+/// The world: bodies, pending flight-plan changes, the collision policy.
+#[derive(Clone, Debug)]
+pub struct World {
+    bodies: Vec<Body>,
+    mode: CollisionMode,
+    until: Time,
+    until_f64: f64,
+    changes: BTreeMap<(Time, u64), Change>,
+    seq: u64,
+}
+
+/// A collision found by a structure: bodies `a` and `b` touch at `time`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Contact {
+    /// Exact time.
+    pub time: Rational,
+    /// One body.
+    pub a: BodyId,
+    /// The other body.
+    pub b: BodyId,
+}
+
+impl World {
+    /// Validate `scenario` and build the world at time 0. `until` replaces the
+    /// scenario's `until` (flight-plan changes after it are dropped).
+    pub fn new(scenario: &Scenario, until: Option<f64>) -> Result<World, ScenarioError> {
+        let until_f64 = until.unwrap_or(scenario.until);
+        for u in [Some(scenario.until), until].into_iter().flatten() {
+            if !(u.is_finite() && u > 0.0) {
+                return Err(ScenarioError::BadUntil(u));
+            }
+        }
+        let mut ids: BTreeMap<&str, usize> = BTreeMap::new();
+        let mut bodies = Vec::with_capacity(scenario.polygons.len());
+        for (index, p) in scenario.polygons.iter().enumerate() {
+            if p.id.is_empty() {
+                return Err(ScenarioError::EmptyId { index });
+            }
+            if ids.insert(&p.id, index).is_some() {
+                return Err(ScenarioError::DuplicateId { id: p.id.clone() });
+            }
+            let id = || p.id.clone();
+            let shape = BodyPolygon::new(&p.vertices).map_err(|d| match d {
+                PolygonDefect::TooFew => ScenarioError::TooFewVertices {
+                    id: id(),
+                    count: p.vertices.len(),
+                },
+                PolygonDefect::NonFinite(i) => ScenarioError::NonFinite {
+                    what: format!("polygon {:?} vertex {i}", p.id),
+                    value: if p.vertices[i][0].is_finite() {
+                        p.vertices[i][1]
+                    } else {
+                        p.vertices[i][0]
+                    },
+                },
+                PolygonDefect::Repeated(index) => ScenarioError::RepeatedVertex { id: id(), index },
+                PolygonDefect::Collinear(index) => {
+                    ScenarioError::CollinearVertices { id: id(), index }
+                }
+                PolygonDefect::Clockwise => ScenarioError::Clockwise { id: id() },
+                PolygonDefect::NotConvex(index) => ScenarioError::NotConvex { id: id(), index },
+            })?;
+            let position = finite_point(p.position, || format!("polygon {:?} position", p.id))?;
+            let velocity = finite_point(p.velocity, || format!("polygon {:?} velocity", p.id))?;
+            if p.fixed && !(velocity.x.is_zero() && velocity.y.is_zero()) {
+                return Err(ScenarioError::FixedWithVelocity { id: id() });
+            }
+            let traj = Trajectory::through(&Rational::zero(), &position, velocity);
+            let frame = Frame::new(&traj, &shape);
+            let area = shape.twice_area().to_f64() / 2.0;
+            let centroid = shape.centroid();
+            bodies.push(Body {
+                id: p.id.clone(),
+                shape: Arc::new(shape),
+                fixed: p.fixed,
+                alive: true,
+                traj,
+                frame,
+                area,
+                centroid,
+                anchor: None,
+            });
+        }
+        let until_time = Time::from_f64(until_f64).expect("finite");
+        let mut changes = BTreeMap::new();
+        let mut seen: BTreeMap<(usize, Time), usize> = BTreeMap::new();
+        let mut seq = 0u64;
+        for (index, c) in scenario.flight_plan_changes.iter().enumerate() {
+            let Some(&body) = ids.get(c.id.as_str()) else {
+                return Err(ScenarioError::UnknownChangeId {
+                    index,
+                    id: c.id.clone(),
+                });
+            };
+            if scenario.polygons[body].fixed {
+                return Err(ScenarioError::FixedWithChange {
+                    index,
+                    id: c.id.clone(),
+                });
+            }
+            if !c.time.is_finite() {
+                return Err(ScenarioError::NonFinite {
+                    what: format!("flight_plan_changes[{index}] time"),
+                    value: c.time,
+                });
+            }
+            if !(c.time > 0.0 && c.time <= scenario.until) {
+                return Err(ScenarioError::ChangeTimeOutOfRange {
+                    index,
+                    id: c.id.clone(),
+                    time: c.time,
+                    until: scenario.until,
+                });
+            }
+            let velocity = finite_point(c.velocity, || {
+                format!("flight_plan_changes[{index}] velocity")
+            })?;
+            let t = Time::from_f64(c.time).expect("finite");
+            if let Some(first) = seen.insert((body, t.clone()), index) {
+                return Err(ScenarioError::DuplicateChange {
+                    first,
+                    second: index,
+                    id: c.id.clone(),
+                    time: c.time,
+                });
+            }
+            if t <= until_time {
+                changes.insert(
+                    (t, seq),
+                    Change {
+                        body: BodyId(body as u32),
+                        velocity,
+                        anchor: false,
+                    },
+                );
+                seq += 1;
+            }
+        }
+        let world = World {
+            bodies,
+            mode: scenario.on_collision,
+            until: until_time,
+            until_f64,
+            changes,
+            seq,
+        };
+        if let Some((a, b)) = world.first_overlap_at_zero() {
+            return Err(ScenarioError::Overlap {
+                a: world.bodies[a].id.clone(),
+                b: world.bodies[b].id.clone(),
+            });
+        }
+        Ok(world)
+    }
+
+    /// A pair of bodies that touch or overlap at time 0, if any: sort and
+    /// sweep over bounding boxes (rounded outward), exact test on candidates.
+    fn first_overlap_at_zero(&self) -> Option<(usize, usize)> {
+        let zero = Rational::zero();
+        let boxes: Vec<[f64; 4]> = self
+            .bodies
+            .iter()
+            .map(|b| {
+                let p = b.traj.position_at(&zero);
+                let (piv_x, piv_y) = (p.x.interval(), p.y.interval());
+                let mut bx = [
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                ];
+                for v in b.shape.f64_vertices() {
+                    bx[0] = bx[0].min(v[0]);
+                    bx[1] = bx[1].max(v[0]);
+                    bx[2] = bx[2].min(v[1]);
+                    bx[3] = bx[3].max(v[1]);
+                }
+                [
+                    (bx[0] + piv_x.lo).next_down(),
+                    (bx[1] + piv_x.hi).next_up(),
+                    (bx[2] + piv_y.lo).next_down(),
+                    (bx[3] + piv_y.hi).next_up(),
+                ]
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..self.bodies.len()).collect();
+        order.sort_by(|&i, &j| boxes[i][0].total_cmp(&boxes[j][0]));
+        let mut active: Vec<usize> = Vec::new();
+        let mut found: Option<(usize, usize)> = None;
+        for &i in &order {
+            active.retain(|&j| boxes[j][1] >= boxes[i][0]);
+            for &j in &active {
+                let (bi, bj) = (&boxes[i], &boxes[j]);
+                if bi[2] > bj[3] || bj[2] > bi[3] {
+                    continue;
+                }
+                let (x, y) = (&self.bodies[i], &self.bodies[j]);
+                if crate::geom::placed_polygons_intersect(
+                    &x.shape,
+                    &x.traj.position_at(&zero),
+                    &y.shape,
+                    &y.traj.position_at(&zero),
+                ) {
+                    let pair = (i.min(j), i.max(j));
+                    // report the first pair in input order, deterministically
+                    if found.is_none_or(|f| pair < f) {
+                        found = Some(pair);
+                    }
+                }
+            }
+            active.push(i);
+        }
+        found
+    }
+
+    /// All bodies (removed ones included, with `alive == false`).
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// One body.
+    pub fn body(&self, id: BodyId) -> &Body {
+        &self.bodies[id.index()]
+    }
+
+    /// Number of bodies (removed ones included).
+    pub fn len(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Whether there are no bodies.
+    pub fn is_empty(&self) -> bool {
+        self.bodies.is_empty()
+    }
+
+    /// The collision policy.
+    pub fn mode(&self) -> CollisionMode {
+        self.mode
+    }
+
+    /// End of the simulated interval.
+    pub fn until(&self) -> &Time {
+        &self.until
+    }
+
+    /// End of the simulated interval, as given.
+    pub fn until_f64(&self) -> f64 {
+        self.until_f64
+    }
+
+    /// Whether the pair is ever checked: both alive and not both fixed.
+    pub fn pair_active(&self, a: BodyId, b: BodyId) -> bool {
+        let (x, y) = (self.body(a), self.body(b));
+        a != b && x.alive && y.alive && !(x.fixed && y.fixed)
+    }
+
+    /// Time of the next pending flight-plan change (at most `until`).
+    pub fn next_change_time(&self) -> Option<&Time> {
+        self.changes.keys().next().map(|(t, _)| t)
+    }
+
+    /// Apply every change at exactly time `t` (which must be the next change
+    /// time); returns the bodies whose trajectory changed.
+    pub fn apply_changes_at(&mut self, t: &Time) -> Changed {
+        let tr = t.as_rational().expect("change times are rational").clone();
+        let mut changed = Vec::new();
+        while let Some(entry) = self.changes.first_entry() {
+            if entry.key().0 != *t {
+                break;
+            }
+            let ((_, seq), c) = entry.remove_entry();
+            let body = &mut self.bodies[c.body.index()];
+            if !body.alive {
+                continue;
+            }
+            if c.anchor {
+                if body.anchor.as_ref().map(|a| a.1) != Some(seq) {
+                    continue; // superseded by a later bounce
+                }
+                body.anchor = None;
+                let traj = body.traj.with_velocity_from(&tr, c.velocity);
+                body.set_traj(traj);
+            } else {
+                let v = c.velocity;
+                self.set_velocity(c.body, &tr, v, None);
+            }
+            if !changed.contains(&c.body) {
+                changed.push(c.body);
+            }
+        }
+        changed
+    }
+
+    /// Remove bodies (`remove` mode); fixed bodies stay.
+    pub fn remove(&mut self, ids: &[BodyId]) -> Changed {
+        let mut removed = Vec::new();
+        for &id in ids {
+            let b = &mut self.bodies[id.index()];
+            if b.alive && !b.fixed {
+                b.alive = false;
+                b.anchor = None;
+                removed.push(id);
+            }
+        }
+        removed
+    }
+
+    /// Set a body's velocity from time `t` on, keeping its position
+    /// continuous; uses a bridge when the position or time is not dyadic
+    /// (module docs). `away` is the direction to round the anchor towards.
+    fn set_velocity(&mut self, id: BodyId, t: &Rational, v: Point, away: Option<&[Rational; 2]>) {
+        let body = &mut self.bodies[id.index()];
+        let p = body.traj.position_at(t);
+        body.anchor = None;
+        if t.is_dyadic() && p.x.is_dyadic() && p.y.is_dyadic() {
+            body.set_traj(Trajectory::through(t, &p, v));
+            return;
+        }
+        let old_v = body.traj.velocity().clone();
+        let (tau, q) = bridge_anchor(t, &p, &v, &old_v, away);
+        let dt = Time::from_rational(tau.clone());
+        let span = tau.sub(t);
+        let mid = q.sub(&p).scale(&Rational::one().div(&span));
+        body.set_traj(Trajectory::through(t, &p, mid));
+        let seq = self.seq;
+        self.seq += 1;
+        body.anchor = Some((dt.clone(), seq));
+        self.changes.insert(
+            (dt, seq),
+            Change {
+                body: id,
+                velocity: v,
+                anchor: true,
+            },
+        );
+    }
+
+    /// Resolve the collisions of one instant in `bounce` mode: elastic
+    /// impulses pair by pair in `(a, b)` id order, each with the velocities
+    /// left by the previous one. Returns the bodies whose trajectory changed.
+    pub fn bounce(&mut self, t: &Rational, pairs: &[(BodyId, BodyId)]) -> Changed {
+        let mut new_v: BTreeMap<BodyId, [f64; 2]> = BTreeMap::new();
+        let mut away: BTreeMap<BodyId, [Rational; 2]> = BTreeMap::new();
+        for &(a, b) in pairs {
+            let va = self.current_velocity(a, &new_v);
+            let vb = self.current_velocity(b, &new_v);
+            let Some(n) = self.contact_normal(a, b, t) else {
+                continue;
+            };
+            // approaching iff (v_b − v_a) · n < 0, decided exactly
+            let rel = vb.sub(&va);
+            if rel.dot(&n).sign() != Sign::Negative {
+                continue;
+            }
+            let (ba, bb) = (self.body(a), self.body(b));
+            let inv_a = if ba.fixed { 0.0 } else { 1.0 / ba.area };
+            let inv_b = if bb.fixed { 0.0 } else { 1.0 / bb.area };
+            let nf = n.to_f64();
+            let len = (nf[0] * nf[0] + nf[1] * nf[1]).sqrt();
+            let nh = [nf[0] / len, nf[1] / len];
+            let vaf = va.to_f64();
+            let vbf = vb.to_f64();
+            let u = (vbf[0] - vaf[0]) * nh[0] + (vbf[1] - vaf[1]) * nh[1];
+            let j = -2.0 * u / (inv_a + inv_b);
+            if !ba.fixed {
+                new_v.insert(a, [vaf[0] - j * inv_a * nh[0], vaf[1] - j * inv_a * nh[1]]);
+                let e = away
+                    .entry(a)
+                    .or_insert_with(|| [Rational::zero(), Rational::zero()]);
+                e[0] = e[0].sub(&n.x);
+                e[1] = e[1].sub(&n.y);
+            }
+            if !bb.fixed {
+                new_v.insert(b, [vbf[0] + j * inv_b * nh[0], vbf[1] + j * inv_b * nh[1]]);
+                let e = away
+                    .entry(b)
+                    .or_insert_with(|| [Rational::zero(), Rational::zero()]);
+                e[0] = e[0].add(&n.x);
+                e[1] = e[1].add(&n.y);
+            }
+        }
+        let mut changed = Vec::new();
+        for (id, v) in new_v {
+            let v =
+                Point::from_f64(v).unwrap_or_else(|| Point::from_f64([0.0, 0.0]).expect("zero"));
+            self.set_velocity(id, t, v, away.get(&id));
+            changed.push(id);
+        }
+        changed
+    }
+
+    fn current_velocity(&self, id: BodyId, new_v: &BTreeMap<BodyId, [f64; 2]>) -> Point {
+        match new_v.get(&id) {
+            Some(v) => Point::from_f64(*v).expect("finite"),
+            None => self.body(id).traj.velocity().clone(),
+        }
+    }
+
+    /// The contact normal of touching bodies `a` and `b` at time `t`,
+    /// pointing from `a` to `b` (not normalised): the touched edge's normal,
+    /// the common line's normal for flush edges, the centroid direction for a
+    /// vertex–vertex contact. `None` if they do not touch.
+    pub fn contact_normal(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<Point> {
+        let (ba, bb) = (self.body(a), self.body(b));
+        // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A)
+        let d = ba.traj.position_at(t).sub(&bb.traj.position_at(t));
+        let mut active: Vec<(Int, Int)> = Vec::new();
+        let mut outside = false;
+        let mut edges = Vec::new();
+        let exp = for_each_minkowski_edge(&ba.shape, &bb.shape, |e| edges.push(e));
+        let unit = Rational::from_dyadic(Int::ONE, exp);
+        for e in edges {
+            let lhs =
+                d.x.mul(&Rational::from_int(e.nx.clone()))
+                    .add(&d.y.mul(&Rational::from_int(e.ny.clone())));
+            let rhs = Rational::from_int(e.h).mul(&unit);
+            match lhs.cmp(&rhs) {
+                std::cmp::Ordering::Greater => outside = true,
+                std::cmp::Ordering::Equal => active.push((e.nx, e.ny)),
+                std::cmp::Ordering::Less => {}
+            }
+        }
+        if outside || active.is_empty() {
+            return None;
+        }
+        let first = &active[0];
+        let all_parallel = active
+            .iter()
+            .all(|n| (&n.0 * &first.1 - &n.1 * &first.0).is_zero());
+        if all_parallel {
+            // M's outward normal points from B to A
+            Some(Point {
+                x: Rational::from_int(-first.0.clone()),
+                y: Rational::from_int(-first.1.clone()),
+            })
+        } else {
+            let ca = ba.traj.position_at(t).add(&ba.centroid);
+            let cb = bb.traj.position_at(t).add(&bb.centroid);
+            Some(cb.sub(&ca))
+        }
+    }
+
+    /// A contact point of touching bodies at time `t`, for display.
+    pub fn contact_point(&self, a: BodyId, b: BodyId, t: f64) -> [f64; 2] {
+        let (ba, bb) = (self.body(a), self.body(b));
+        let pa: Vec<[f64; 2]> = (0..ba.shape.len())
+            .map(|i| ba.vertex(i).at_f64(t))
+            .collect();
+        let pb: Vec<[f64; 2]> = (0..bb.shape.len())
+            .map(|i| bb.vertex(i).at_f64(t))
+            .collect();
+        // the vertex of one polygon closest to the other polygon's vertices' centroid
+        let mut best = (f64::INFINITY, [0.0, 0.0]);
+        let cb = centroid_f64(&pb);
+        let ca = centroid_f64(&pa);
+        for p in &pa {
+            let d = (p[0] - cb[0]).hypot(p[1] - cb[1]);
+            if d < best.0 {
+                best = (d, *p);
+            }
+        }
+        for p in &pb {
+            let d = (p[0] - ca[0]).hypot(p[1] - ca[1]);
+            if d < best.0 {
+                best = (d, *p);
+            }
+        }
+        best.1
+    }
+}
+
+fn centroid_f64(ps: &[[f64; 2]]) -> [f64; 2] {
+    let n = ps.len() as f64;
+    let s = ps
+        .iter()
+        .fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
+    [s[0] / n, s[1] / n]
+}
+
+fn finite_point(p: [f64; 2], what: impl Fn() -> String) -> Result<Point, ScenarioError> {
+    for c in p {
+        if !c.is_finite() {
+            return Err(ScenarioError::NonFinite {
+                what: what(),
+                value: c,
+            });
+        }
+    }
+    Ok(Point::from_f64(p).expect("finite"))
+}
+
+/// `2^floor(log2 |x|)` for a positive double.
+fn pow2_floor(x: f64) -> i32 {
+    x.log2().floor() as i32
+}
+
+/// The bridge end: a dyadic time `τ > t` and a dyadic point `Q` near
+/// `p + v·(τ − t)` (module docs).
+fn bridge_anchor(
+    t: &Rational,
+    p: &Point,
+    v: &Point,
+    old_v: &Point,
+    away: Option<&[Rational; 2]>,
+) -> (Rational, Point) {
+    let tf = t.to_f64().abs().max(1e-6);
+    let g = pow2_floor(tf) - 36;
+    let grid_t = Rational::from_dyadic(Int::ONE, g as i64);
+    // τ = (floor(t / G) + 2)·G, so τ − t ∈ (G, 2G]
+    let k = t.div(&grid_t).floor() + Int::from(2);
+    let tau = Rational::from_dyadic(k, g as i64);
+    let vf = v.to_f64();
+    let of = old_v.to_f64();
+    let speed = vf
+        .iter()
+        .chain(of.iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+        .max(1e-300);
+    let r = pow2_floor(speed) - 30 + g;
+    let target = p.add(&v.scale(&tau.sub(t)));
+    let round = |x: &Rational, dir: Sign| -> Rational {
+        // x / 2^r rounded in direction `dir`, times 2^r
+        let scaled = x.mul(&Rational::from_dyadic(Int::ONE, -(r as i64)));
+        let fl = scaled.floor();
+        let exact = Rational::from_int(fl.clone()) == scaled;
+        let m = match dir {
+            Sign::Positive if !exact => fl + Int::ONE,
+            _ => fl,
+        };
+        Rational::from_dyadic(m, r as i64)
+    };
+    let dir = |i: usize| away.map_or(Sign::Zero, |a| a[i].sign());
+    let q = Point {
+        x: round(&target.x, dir(0)),
+        y: round(&target.y, dir(1)),
+    };
+    (tau, q)
+}
