@@ -232,8 +232,15 @@ mod tests {
         let t0 = r(0.0);
         let fa = Frame::new(&Trajectory::through(&t0, &pt(0.0, 0.0), pt(1.0, 0.0)), &tri);
         let fb = Frame::new(&Trajectory::through(&t0, &pt(5.0, 0.0), pt(0.0, 1.0)), &tri);
-        let fc = Frame::new(&Trajectory::through(&t0, &pt(0.0, 5.0), pt(0.1, -0.5)), &tri);
-        let c = orient_poly(&fa.vertex(&tri, 0), &fb.vertex(&tri, 0), &fc.vertex(&tri, 0));
+        let fc = Frame::new(
+            &Trajectory::through(&t0, &pt(0.0, 5.0), pt(0.1, -0.5)),
+            &tri,
+        );
+        let c = orient_poly(
+            &fa.vertex(&tri, 0),
+            &fb.vertex(&tri, 0),
+            &fc.vertex(&tri, 0),
+        );
         assert_eq!(c.degree(), Some(2));
         for root in c.roots() {
             assert_eq!(c.sign_at(&root), Sign::Zero);

@@ -39,6 +39,9 @@ pub struct RunOptions {
     pub until: Option<f64>,
     /// Run the structure's audit after every event.
     pub audit: bool,
+    /// For the brute-force structure: how a pair's contact time is computed
+    /// (both methods must give identical results; tests compare them).
+    pub pair_method: PairMethod,
 }
 
 /// One reported collision: polygons `a < b` (byte-wise) first touch at `time`.
@@ -203,7 +206,7 @@ impl Engine for BruteEngine {
 
 fn make_engine(world: &World, options: &RunOptions) -> Result<Box<dyn Engine>, RunError> {
     match options.structure {
-        StructureKind::Brute => Ok(Box::new(BruteEngine(Brute::new(world, PairMethod::Fast)))),
+        StructureKind::Brute => Ok(Box::new(BruteEngine(Brute::new(world, options.pair_method)))),
         other => Err(RunError::NotImplemented(other.name())),
     }
 }

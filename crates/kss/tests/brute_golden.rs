@@ -1,9 +1,7 @@
 //! Hand-computed golden scenarios for the brute-force reference, times exact.
 
 use kss::num::{Int, Rational};
-use kss::{
-    run, CollisionMode, FlightPlanChange, PolygonSpec, RunOptions, Scenario, StructureKind,
-};
+use kss::{run, CollisionMode, FlightPlanChange, PolygonSpec, RunOptions, Scenario, StructureKind};
 
 fn square(id: &str, x: f64, y: f64, vx: f64, vy: f64) -> PolygonSpec {
     PolygonSpec {
@@ -117,7 +115,11 @@ fn grazing_contact() {
     // corner (0, 1) at t = 2: closed sets share a point, so it is a collision.
     let mut a = square("a", 0.0, 0.0, 0.0, 0.0);
     a.fixed = true;
-    let s = scenario(CollisionMode::Stop, 10.0, vec![a, square("b", -3.0, 1.0, 1.0, 0.0)]);
+    let s = scenario(
+        CollisionMode::Stop,
+        10.0,
+        vec![a, square("b", -3.0, 1.0, 1.0, 0.0)],
+    );
     assert_eq!(events(&s), vec![ev(2, 1, "a", "b")]);
 }
 
@@ -127,7 +129,11 @@ fn grazing_then_sliding_in_bounce_mode() {
     // leaves; nothing else happens.
     let mut a = square("a", 0.0, 0.0, 0.0, 0.0);
     a.fixed = true;
-    let s = scenario(CollisionMode::Bounce, 10.0, vec![a, square("b", -3.0, 1.0, 1.0, 0.0)]);
+    let s = scenario(
+        CollisionMode::Bounce,
+        10.0,
+        vec![a, square("b", -3.0, 1.0, 1.0, 0.0)],
+    );
     assert_eq!(events(&s), vec![ev(2, 1, "a", "b")]);
 }
 
@@ -137,9 +143,24 @@ fn three_polygons_meet_at_one_point() {
         CollisionMode::Stop,
         10.0,
         vec![
-            poly("a", &[[0.0, 0.0], [-2.0, 1.0], [-2.0, -1.0]], [-1.0, 0.0], [1.0, 0.0]),
-            poly("b", &[[0.0, 0.0], [2.0, -1.0], [2.0, 1.0]], [1.0, 0.0], [-1.0, 0.0]),
-            poly("c", &[[0.0, 0.0], [1.0, 2.0], [-1.0, 2.0]], [0.0, 1.0], [0.0, -1.0]),
+            poly(
+                "a",
+                &[[0.0, 0.0], [-2.0, 1.0], [-2.0, -1.0]],
+                [-1.0, 0.0],
+                [1.0, 0.0],
+            ),
+            poly(
+                "b",
+                &[[0.0, 0.0], [2.0, -1.0], [2.0, 1.0]],
+                [1.0, 0.0],
+                [-1.0, 0.0],
+            ),
+            poly(
+                "c",
+                &[[0.0, 0.0], [1.0, 2.0], [-1.0, 2.0]],
+                [0.0, 1.0],
+                [0.0, -1.0],
+            ),
         ],
     );
     assert_eq!(
@@ -153,7 +174,10 @@ fn flight_plan_change_before_contact() {
     let mut s = scenario(
         CollisionMode::Stop,
         10.0,
-        vec![square("a", 0.0, 0.0, 1.0, 0.0), square("b", 3.0, 0.0, -1.0, 0.0)],
+        vec![
+            square("a", 0.0, 0.0, 1.0, 0.0),
+            square("b", 3.0, 0.0, -1.0, 0.0),
+        ],
     );
     s.flight_plan_changes.push(FlightPlanChange {
         time: 0.5,
@@ -209,7 +233,10 @@ fn remove_cascade() {
 
 #[test]
 fn contact_at_exactly_until() {
-    let pair = vec![square("a", 0.0, 0.0, 1.0, 0.0), square("b", 3.0, 0.0, -1.0, 0.0)];
+    let pair = vec![
+        square("a", 0.0, 0.0, 1.0, 0.0),
+        square("b", 3.0, 0.0, -1.0, 0.0),
+    ];
     let at = scenario(CollisionMode::Stop, 1.0, pair.clone());
     assert_eq!(events(&at), vec![ev(1, 1, "a", "b")]);
     let before = scenario(CollisionMode::Stop, 0.999, pair);
@@ -223,7 +250,10 @@ fn change_at_collision_instant_takes_effect_after() {
     let mut s = scenario(
         CollisionMode::Stop,
         10.0,
-        vec![square("a", 0.0, 0.0, 1.0, 0.0), square("b", 3.0, 0.0, -1.0, 0.0)],
+        vec![
+            square("a", 0.0, 0.0, 1.0, 0.0),
+            square("b", 3.0, 0.0, -1.0, 0.0),
+        ],
     );
     s.flight_plan_changes.push(FlightPlanChange {
         time: 1.0,

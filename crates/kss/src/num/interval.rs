@@ -180,7 +180,11 @@ impl Interval {
         } else {
             down(self.lo.sqrt()).max(0.0)
         };
-        let hi = if self.hi < 0.0 { 0.0 } else { up(self.hi.sqrt()) };
+        let hi = if self.hi < 0.0 {
+            0.0
+        } else {
+            up(self.hi.sqrt())
+        };
         Interval { lo, hi }
     }
 
@@ -208,7 +212,10 @@ mod tests {
         let iv = Interval::of_int(&big);
         assert!(iv.lo < iv.hi);
         assert!(iv.lo <= 2f64.powi(100) && 2f64.powi(100) <= iv.hi);
-        assert_eq!(Interval::of_int(&Int::from(12345)), Interval::point(12345.0));
+        assert_eq!(
+            Interval::of_int(&Int::from(12345)),
+            Interval::point(12345.0)
+        );
         let huge = Int::from(1) << 2000;
         let iv = Interval::of_int(&huge);
         assert!(iv.hi.is_infinite() && iv.lo == f64::MAX);
@@ -222,6 +229,9 @@ mod tests {
         assert!(s.lo < 0.30000000000000004 && s.hi >= 0.30000000000000004);
         let q = Interval::point(1.0).div(Interval::point(3.0));
         assert!(q.lo < 1.0 / 3.0 && q.hi > 1.0 / 3.0);
-        assert_eq!(Interval::point(1.0).div(Interval { lo: -1.0, hi: 1.0 }), Interval::ENTIRE);
+        assert_eq!(
+            Interval::point(1.0).div(Interval { lo: -1.0, hi: 1.0 }),
+            Interval::ENTIRE
+        );
     }
 }

@@ -115,7 +115,11 @@ pub fn sign_a_plus_b_sqrt(a: &Int, b: &Int, d: &Int) -> Sign {
 /// Sign of `a + b·√d1 + c·√d2` for integers, `d1, d2 >= 0`, exactly.
 pub fn sign_a_plus_b_sqrt_plus_c_sqrt(a: &Int, b: &Int, d1: &Int, c: &Int, d2: &Int) -> Sign {
     let sx = sign_a_plus_b_sqrt(a, b, d1);
-    let sy = if d2.is_zero() { Sign::Zero } else { Sign::of(c) };
+    let sy = if d2.is_zero() {
+        Sign::Zero
+    } else {
+        Sign::of(c)
+    };
     if sy == Sign::Zero {
         return sx;
     }

@@ -19,9 +19,7 @@ pub struct Poly {
 impl Poly {
     /// `c0 + c1·t + c2·t²`.
     pub fn new(c0: Int, c1: Int, c2: Int) -> Poly {
-        let big = [&c0, &c1, &c2]
-            .iter()
-            .any(|c| c.unsigned_bits() > 1000);
+        let big = [&c0, &c1, &c2].iter().any(|c| c.unsigned_bits() > 1000);
         let iv = if big {
             [Interval::ENTIRE; 3]
         } else {
@@ -31,7 +29,10 @@ impl Poly {
                 Interval::of_int(&c2),
             ]
         };
-        Poly { c: [c0, c1, c2], iv }
+        Poly {
+            c: [c0, c1, c2],
+            iv,
+        }
     }
 
     /// The polynomial with these rational coefficients, scaled by a positive
@@ -59,11 +60,7 @@ impl Poly {
 
     /// The derivative.
     pub fn derivative(&self) -> Poly {
-        Poly::new(
-            self.c[1].clone(),
-            Int::from(2) * &self.c[2],
-            Int::ZERO,
-        )
+        Poly::new(self.c[1].clone(), Int::from(2) * &self.c[2], Int::ZERO)
     }
 
     /// `-self`.

@@ -72,7 +72,10 @@ impl Rational {
 
     /// The integer `x`.
     pub fn from_int(x: Int) -> Rational {
-        Rational { num: x, den: Int::ONE }
+        Rational {
+            num: x,
+            den: Int::ONE,
+        }
     }
 
     /// The exact value of a finite double (a dyadic rational); `None` for NaN
@@ -185,9 +188,15 @@ impl Rational {
             // Tiny values: a coarse but rigorous enclosure touching zero (the
             // exact path decides signs).
             return if self.num > Int::ZERO {
-                Interval { lo: 0.0, hi: 1e-290 }
+                Interval {
+                    lo: 0.0,
+                    hi: 1e-290,
+                }
             } else {
-                Interval { lo: -1e-290, hi: 0.0 }
+                Interval {
+                    lo: -1e-290,
+                    hi: 0.0,
+                }
             };
         }
         Interval {
@@ -321,7 +330,10 @@ mod tests {
         let r = Rational::from_f64(0.1).unwrap();
         assert_eq!(r.denom(), &(Int::ONE << 55));
         assert_eq!(r.to_f64(), 0.1);
-        assert_eq!(Rational::from_f64(-3.0).unwrap(), Rational::from_int(Int::from(-3)));
+        assert_eq!(
+            Rational::from_f64(-3.0).unwrap(),
+            Rational::from_int(Int::from(-3))
+        );
         assert_eq!(Rational::from_f64(0.5).unwrap().to_string(), "1/2");
         let tiny = Rational::from_f64(f64::from_bits(1)).unwrap();
         assert_eq!(tiny.to_f64(), f64::from_bits(1));
@@ -340,7 +352,10 @@ mod tests {
         assert!(a < c);
         assert!(a.neg() < a);
         assert_eq!(c.mul(&a).div(&a), c);
-        assert_eq!(Rational::new(Int::from(-7), Int::from(2)).floor(), Int::from(-4));
+        assert_eq!(
+            Rational::new(Int::from(-7), Int::from(2)).floor(),
+            Int::from(-4)
+        );
         let iv = a.interval();
         assert!(iv.lo < 1.0 / 3.0 + 1e-17 && iv.hi > 1.0 / 3.0 - 1e-17 && iv.lo <= iv.hi);
     }

@@ -80,7 +80,11 @@ impl QuadRoot {
                 sq.sub(b).div(two)
             };
             // For b >= 0, q/a is the smaller root (the minus one); for b < 0, the larger.
-            let iv = if self.plus != b_nonneg { q.div(a) } else { c.div(q) };
+            let iv = if self.plus != b_nonneg {
+                q.div(a)
+            } else {
+                c.div(q)
+            };
             if iv.is_finite() && iv.width() <= iv.lo.abs().max(iv.hi.abs()) * 1e-14 {
                 return iv;
             }
@@ -157,7 +161,10 @@ impl Time {
             c /= &g;
         }
         let d = &b * &b - Int::from(4) * &a * &c;
-        assert!(d >= Int::ZERO, "quadratic_root with a negative discriminant");
+        assert!(
+            d >= Int::ZERO,
+            "quadratic_root with a negative discriminant"
+        );
         let sq = Int::from(d.unsigned_abs_owned().sqrt());
         if &sq * &sq == d {
             let num = if larger { -&b + &sq } else { -&b - &sq };
@@ -203,14 +210,26 @@ impl Time {
         match &self.kind {
             Kind::Rat(r) => r.to_f64(),
             Kind::Root(q) => {
-                let (lo, _) = q.bounds(128);
-                lo.to_f64()
+                // `bounds(k)` is tight to 2^-k/(2a) in absolute terms, which is
+                // not enough for roots much smaller than that: refine until the
+                // bounds agree to a relative 2^-48 (or convert to the same
+                // double, e.g. below the normal range).
+                let mut k = 128;
+                loop {
+                    let (lo, hi) = q.bounds(k);
+                    let (l, h) = (lo.to_f64(), hi.to_f64());
+                    let tol = l.abs().min(h.abs()) * 2f64.powi(-48);
+                    if l == h || (l.signum() == h.signum() && h - l <= tol) || k > 1 << 16 {
+                        return l;
+                    }
+                    k *= 2;
+                }
             }
         }
     }
 
-    /// Rational lower and upper bounds, at least as tight as `2^-k` relative
-    /// (exact for rational times).
+    /// Rational lower and upper bounds, at least as tight as `2^-k` in
+    /// absolute terms (exact for rational times).
     fn bounds(&self, k: usize) -> (Rational, Rational) {
         match &self.kind {
             Kind::Rat(r) => (r.clone(), r.clone()),
@@ -299,6 +318,10 @@ fn simple_between(lo: f64, hi: f64) -> Option<f64> {
     let mid = lo * 0.5 + hi * 0.5;
     if !(lo < mid && mid < hi) {
         return None;
+    }
+    if mid == 0.0 {
+        // Zero is the simplest double (and `log2(0)` below would overflow).
+        return Some(0.0);
     }
     // Round the midpoint to as few bits as stay strictly inside.
     let mut best = mid;

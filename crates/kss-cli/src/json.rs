@@ -1,0 +1,456 @@
+//! Reading and writing scenario files (the JSON format of the contract,
+//! `shared/spec/scenario.md`).
+//!
+//! Reading goes through [`serde_json::Value`] (parsed with correct rounding:
+//! the workspace enables serde_json's `float_roundtrip`) and then walks the
+//! tree by hand, so that every error names the entry it is about
+//! (`polygons[2] (id "b")`, `flight_plan_changes[0]`, ...). Only the syntax and
+//! the types are checked here; the semantic rules (convexity, disjointness,
+//! unique ids, change times, ...) are [`kss::Scenario::validate`]'s job.
+//!
+//! Writing uses serde structs and serde_json's number formatting, which prints
+//! the shortest decimal that reads back to the identical double.
+
+use serde::Serialize;
+use serde_json::{Map, Value};
+
+use kss::{CollisionMode, FlightPlanChange, PolygonSpec, Scenario};
+
+/// Why a scenario file could not be read. Every message names the entry.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ScenarioJsonError {
+    /// The text is not JSON.
+    #[error("malformed JSON at line {line}, column {column}: {message}")]
+    Syntax {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// serde_json's description.
+        message: String,
+    },
+    /// A number literal too large for a double (like `1e999`).
+    #[error("number out of range at line {line}, column {column}: every number must be a finite double (at most about 1.8e308)")]
+    NumberOutOfRange {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+    },
+    /// A required field is absent.
+    #[error("{entry}: missing required field \"{field}\"")]
+    MissingField {
+        /// The entry (`scenario`, `polygons[1] (id "b")`, ...).
+        entry: String,
+        /// The field.
+        field: &'static str,
+    },
+    /// A field has the wrong JSON type.
+    #[error("{entry}: field \"{field}\" must be {expected}, found {found}")]
+    WrongType {
+        /// The entry.
+        entry: String,
+        /// The field (or `entry` itself for a whole entry of the wrong type).
+        field: String,
+        /// What was expected.
+        expected: &'static str,
+        /// What was found.
+        found: String,
+    },
+    /// `on_collision` is not one of the three modes.
+    #[error(
+        "scenario: unknown on_collision value {value:?}; use \"stop\", \"remove\" or \"bounce\""
+    )]
+    UnknownMode {
+        /// The value found.
+        value: String,
+    },
+    /// `version` is not 1.
+    #[error("scenario: unsupported version {found}; this program reads version 1")]
+    BadVersion {
+        /// The value found.
+        found: String,
+    },
+    /// A point is not an array of exactly two numbers.
+    #[error("{entry}: {field} must be a point [x, y] (an array of 2 numbers), found {found}")]
+    BadPoint {
+        /// The entry.
+        entry: String,
+        /// The field (`position`, `vertices[2]`, ...).
+        field: String,
+        /// What was found.
+        found: String,
+    },
+}
+
+/// A short description of a JSON value for error messages.
+fn describe(v: &Value) -> String {
+    match v {
+        Value::Null => "null".to_string(),
+        Value::Bool(b) => format!("the boolean {b}"),
+        Value::Number(n) => format!("the number {n}"),
+        Value::String(s) => {
+            let short: String = s.chars().take(40).collect();
+            if short.len() < s.len() {
+                format!("the string {short:?}...")
+            } else {
+                format!("the string {s:?}")
+            }
+        }
+        Value::Array(a) => match a.len() {
+            1 => "an array of 1 element".to_string(),
+            n => format!("an array of {n} elements"),
+        },
+        Value::Object(_) => "an object".to_string(),
+    }
+}
+
+fn syntax_error(e: serde_json::Error) -> ScenarioJsonError {
+    let text = e.to_string();
+    if text.starts_with("number out of range") {
+        ScenarioJsonError::NumberOutOfRange {
+            line: e.line(),
+            column: e.column(),
+        }
+    } else {
+        let message = match text.rfind(" at line ") {
+            Some(i) => text[..i].to_string(),
+            None => text,
+        };
+        ScenarioJsonError::Syntax {
+            line: e.line(),
+            column: e.column(),
+            message,
+        }
+    }
+}
+
+/// Parses a scenario file's text into a [`Scenario`] (not yet validated).
+///
+/// ```
+/// let sc = kss_cli::json::parse_scenario(
+///     r#"{"version": 1, "until": 2.5, "polygons": [
+///         {"id": "a", "vertices": [[0,0],[1,0],[0,1]], "position": [0.1, 0]}]}"#,
+/// ).unwrap();
+/// assert_eq!(sc.until, 2.5);
+/// assert_eq!(sc.polygons[0].position, [0.1, 0.0]);
+/// assert_eq!(sc.polygons[0].velocity, [0.0, 0.0]);
+/// ```
+pub fn parse_scenario(text: &str) -> Result<Scenario, ScenarioJsonError> {
+    let root: Value = serde_json::from_str(text).map_err(syntax_error)?;
+    scenario_from_value(&root)
+}
+
+/// Builds a [`Scenario`] from an already parsed JSON value.
+pub fn scenario_from_value(root: &Value) -> Result<Scenario, ScenarioJsonError> {
+    let top = "scenario";
+    let obj = root
+        .as_object()
+        .ok_or_else(|| ScenarioJsonError::WrongType {
+            entry: top.to_string(),
+            field: "(the whole file)".to_string(),
+            expected: "a JSON object",
+            found: describe(root),
+        })?;
+
+    let version = required(obj, top, "version")?;
+    if version.as_f64() != Some(1.0) {
+        return Err(ScenarioJsonError::BadVersion {
+            found: match version {
+                Value::Number(n) => n.to_string(),
+                other => describe(other),
+            },
+        });
+    }
+    let until = number(obj, top, "until")?;
+    let on_collision = match obj.get("on_collision") {
+        None => CollisionMode::Stop,
+        Some(Value::String(s)) => match s.as_str() {
+            "stop" => CollisionMode::Stop,
+            "remove" => CollisionMode::Remove,
+            "bounce" => CollisionMode::Bounce,
+            _ => return Err(ScenarioJsonError::UnknownMode { value: s.clone() }),
+        },
+        Some(other) => {
+            return Err(wrong(top, "on_collision", "a string", other));
+        }
+    };
+
+    let polys = match required(obj, top, "polygons")? {
+        Value::Array(a) => a,
+        other => return Err(wrong(top, "polygons", "an array of polygons", other)),
+    };
+    let mut polygons = Vec::with_capacity(polys.len());
+    for (i, p) in polys.iter().enumerate() {
+        polygons.push(polygon(i, p)?);
+    }
+
+    let mut flight_plan_changes = Vec::new();
+    match obj.get("flight_plan_changes") {
+        None => {}
+        Some(Value::Array(a)) => {
+            for (i, c) in a.iter().enumerate() {
+                flight_plan_changes.push(change(i, c)?);
+            }
+        }
+        Some(other) => {
+            return Err(wrong(
+                top,
+                "flight_plan_changes",
+                "an array of changes",
+                other,
+            ))
+        }
+    }
+
+    Ok(Scenario {
+        until,
+        on_collision,
+        polygons,
+        flight_plan_changes,
+    })
+}
+
+fn polygon(index: usize, v: &Value) -> Result<PolygonSpec, ScenarioJsonError> {
+    let bare = format!("polygons[{index}]");
+    let obj = v.as_object().ok_or_else(|| ScenarioJsonError::WrongType {
+        entry: bare.clone(),
+        field: bare.clone(),
+        expected: "an object",
+        found: describe(v),
+    })?;
+    let id = string(obj, &bare, "id")?;
+    let entry = format!("polygons[{index}] (id {id:?})");
+    let vertices = match required(obj, &entry, "vertices")? {
+        Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .map(|(k, p)| point(&entry, &format!("vertices[{k}]"), p))
+            .collect::<Result<Vec<_>, _>>()?,
+        other => return Err(wrong(&entry, "vertices", "an array of points", other)),
+    };
+    let position = point_field(obj, &entry, "position")?;
+    let velocity = match obj.get("velocity") {
+        None => [0.0, 0.0],
+        Some(_) => point_field(obj, &entry, "velocity")?,
+    };
+    let fixed = match obj.get("fixed") {
+        None => false,
+        Some(Value::Bool(b)) => *b,
+        Some(other) => return Err(wrong(&entry, "fixed", "true or false", other)),
+    };
+    Ok(PolygonSpec {
+        id,
+        vertices,
+        position,
+        velocity,
+        fixed,
+    })
+}
+
+fn change(index: usize, v: &Value) -> Result<FlightPlanChange, ScenarioJsonError> {
+    let entry = format!("flight_plan_changes[{index}]");
+    let obj = v.as_object().ok_or_else(|| ScenarioJsonError::WrongType {
+        entry: entry.clone(),
+        field: entry.clone(),
+        expected: "an object {\"time\", \"id\", \"velocity\"}",
+        found: describe(v),
+    })?;
+    let time = number(obj, &entry, "time")?;
+    let id = string(obj, &entry, "id")?;
+    let velocity = point_field(obj, &entry, "velocity")?;
+    Ok(FlightPlanChange { time, id, velocity })
+}
+
+fn wrong(entry: &str, field: &str, expected: &'static str, found: &Value) -> ScenarioJsonError {
+    ScenarioJsonError::WrongType {
+        entry: entry.to_string(),
+        field: field.to_string(),
+        expected,
+        found: describe(found),
+    }
+}
+
+fn required<'a>(
+    obj: &'a Map<String, Value>,
+    entry: &str,
+    field: &'static str,
+) -> Result<&'a Value, ScenarioJsonError> {
+    obj.get(field)
+        .ok_or_else(|| ScenarioJsonError::MissingField {
+            entry: entry.to_string(),
+            field,
+        })
+}
+
+fn number(
+    obj: &Map<String, Value>,
+    entry: &str,
+    field: &'static str,
+) -> Result<f64, ScenarioJsonError> {
+    match required(obj, entry, field)? {
+        Value::Number(n) => n
+            .as_f64()
+            .ok_or_else(|| wrong(entry, field, "a number", &Value::Number(n.clone()))),
+        other => Err(wrong(entry, field, "a number", other)),
+    }
+}
+
+fn string(
+    obj: &Map<String, Value>,
+    entry: &str,
+    field: &'static str,
+) -> Result<String, ScenarioJsonError> {
+    match required(obj, entry, field)? {
+        Value::String(s) => Ok(s.clone()),
+        other => Err(wrong(entry, field, "a string", other)),
+    }
+}
+
+fn point_field(
+    obj: &Map<String, Value>,
+    entry: &str,
+    field: &'static str,
+) -> Result<[f64; 2], ScenarioJsonError> {
+    let v = required(obj, entry, field)?;
+    if !v.is_array() {
+        return Err(wrong(entry, field, "a point [x, y]", v));
+    }
+    point(entry, field, v)
+}
+
+fn point(entry: &str, field: &str, v: &Value) -> Result<[f64; 2], ScenarioJsonError> {
+    let bad = || ScenarioJsonError::BadPoint {
+        entry: entry.to_string(),
+        field: field.to_string(),
+        found: describe(v),
+    };
+    let a = v.as_array().ok_or_else(bad)?;
+    if a.len() != 2 {
+        return Err(bad());
+    }
+    let coordinate = |k: usize| -> Result<f64, ScenarioJsonError> {
+        match &a[k] {
+            Value::Number(n) => n.as_f64().ok_or_else(bad),
+            other => Err(ScenarioJsonError::BadPoint {
+                entry: entry.to_string(),
+                field: field.to_string(),
+                found: format!(
+                    "an array whose {} coordinate is {}",
+                    if k == 0 { "x" } else { "y" },
+                    describe(other)
+                ),
+            }),
+        }
+    };
+    Ok([coordinate(0)?, coordinate(1)?])
+}
+
+// ---------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------
+
+/// One polygon as written.
+#[derive(Serialize)]
+struct PolygonOut<'a> {
+    id: &'a str,
+    vertices: &'a [[f64; 2]],
+    position: [f64; 2],
+    velocity: [f64; 2],
+    fixed: bool,
+}
+
+/// One flight-plan change as written.
+#[derive(Serialize)]
+struct ChangeOut<'a> {
+    time: f64,
+    id: &'a str,
+    velocity: [f64; 2],
+}
+
+/// Why a scenario cannot be written.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("cannot write the scenario: {what} is not a finite number ({value})")]
+pub struct WriteError {
+    /// Where the number is.
+    pub what: String,
+    /// The value.
+    pub value: f64,
+}
+
+fn finite(what: impl Fn() -> String, values: &[f64]) -> Result<(), WriteError> {
+    match values.iter().find(|x| !x.is_finite()) {
+        Some(&value) => Err(WriteError {
+            what: what(),
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Writes `scenario` as a scenario file (version 1), one polygon and one
+/// flight-plan change per line. Every number reads back to the identical
+/// double. Non-finite numbers cannot be written.
+pub fn write_scenario(scenario: &Scenario) -> Result<String, WriteError> {
+    finite(|| "until".to_string(), &[scenario.until])?;
+    let mut out = String::new();
+    out.push_str("{\n  \"version\": 1,\n");
+    out.push_str(&format!(
+        "  \"until\": {},\n  \"on_collision\": \"{}\",\n  \"polygons\": [",
+        json_f64(scenario.until),
+        scenario.on_collision.name()
+    ));
+    for (i, p) in scenario.polygons.iter().enumerate() {
+        let what = || format!("polygon {:?}", p.id);
+        finite(what, &p.position)?;
+        finite(what, &p.velocity)?;
+        for v in &p.vertices {
+            finite(what, v)?;
+        }
+        let line = serde_json::to_string(&PolygonOut {
+            id: &p.id,
+            vertices: &p.vertices,
+            position: p.position,
+            velocity: p.velocity,
+            fixed: p.fixed,
+        })
+        .expect("finite numbers and strings always serialize");
+        out.push_str(if i == 0 { "\n    " } else { ",\n    " });
+        out.push_str(&line);
+    }
+    out.push_str(if scenario.polygons.is_empty() {
+        "],\n"
+    } else {
+        "\n  ],\n"
+    });
+    out.push_str("  \"flight_plan_changes\": [");
+    for (i, c) in scenario.flight_plan_changes.iter().enumerate() {
+        let what = || format!("flight_plan_changes[{i}]");
+        finite(what, &[c.time])?;
+        finite(what, &c.velocity)?;
+        let line = serde_json::to_string(&ChangeOut {
+            time: c.time,
+            id: &c.id,
+            velocity: c.velocity,
+        })
+        .expect("finite numbers and strings always serialize");
+        out.push_str(if i == 0 { "\n    " } else { ",\n    " });
+        out.push_str(&line);
+    }
+    out.push_str(if scenario.flight_plan_changes.is_empty() {
+        "]\n}\n"
+    } else {
+        "\n  ]\n}\n"
+    });
+    Ok(out)
+}
+
+/// A finite double as JSON (shortest text that reads back identically).
+pub fn json_f64(x: f64) -> String {
+    serde_json::to_string(&x).expect("a finite double serializes")
+}
+
+/// A string as a JSON string literal (quoted and escaped).
+pub fn json_str(s: &str) -> String {
+    serde_json::to_string(s).expect("a string serializes")
+}

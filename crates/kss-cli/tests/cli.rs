@@ -1,0 +1,886 @@
+//! Tests of the `kss` command line: the JSON reader's errors and numbers, and
+//! the binary's subcommands and exit statuses.
+
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use kss::gen::Family;
+use kss::Scenario;
+use kss_cli::json::{parse_scenario, write_scenario, ScenarioJsonError};
+
+// ---------------------------------------------------------------------------
+// Helpers
+// ---------------------------------------------------------------------------
+
+fn kss() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_kss"))
+}
+
+fn run_kss(args: &[&str], stdin: Option<&str>) -> Output {
+    let mut cmd = kss();
+    cmd.args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = cmd.spawn().expect("start kss");
+    {
+        use std::io::Write;
+        let mut input = child.stdin.take().expect("stdin");
+        if let Some(text) = stdin {
+            input.write_all(text.as_bytes()).expect("write stdin");
+        }
+    }
+    child.wait_with_output().expect("wait for kss")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("stdout is UTF-8")
+}
+
+/// A fresh directory for one test's files.
+fn temp_dir() -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "kss-cli-test-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::SeqCst)
+    ));
+    std::fs::create_dir_all(&dir).expect("create temp dir");
+    dir
+}
+
+fn err(text: &str) -> ScenarioJsonError {
+    match parse_scenario(text) {
+        Ok(sc) => panic!("accepted {text}: {sc:?}"),
+        Err(e) => e,
+    }
+}
+
+/// Bit-exact equality of two scenarios (`-0.0` differs from `0.0`).
+fn assert_identical(a: &Scenario, b: &Scenario) {
+    let bits = |x: &[f64; 2]| [x[0].to_bits(), x[1].to_bits()];
+    assert_eq!(a.until.to_bits(), b.until.to_bits());
+    assert_eq!(a.on_collision, b.on_collision);
+    assert_eq!(a.polygons.len(), b.polygons.len());
+    for (p, q) in a.polygons.iter().zip(&b.polygons) {
+        assert_eq!(p.id, q.id);
+        assert_eq!(p.fixed, q.fixed);
+        assert_eq!(bits(&p.position), bits(&q.position), "{}", p.id);
+        assert_eq!(bits(&p.velocity), bits(&q.velocity), "{}", p.id);
+        assert_eq!(p.vertices.len(), q.vertices.len());
+        for (u, v) in p.vertices.iter().zip(&q.vertices) {
+            assert_eq!(bits(u), bits(v), "{}", p.id);
+        }
+    }
+    assert_eq!(a.flight_plan_changes.len(), b.flight_plan_changes.len());
+    for (c, d) in a.flight_plan_changes.iter().zip(&b.flight_plan_changes) {
+        assert_eq!(c.id, d.id);
+        assert_eq!(c.time.to_bits(), d.time.to_bits());
+        assert_eq!(bits(&c.velocity), bits(&d.velocity));
+    }
+}
+
+const TRIANGLE: &str = r#"[[-1.0, 0.0], [1.0, 0.0], [0.0, 1.5]]"#;
+
+/// A valid scenario: two triangles approaching head-on (they touch at t = 1).
+fn two_triangles(mode: &str) -> String {
+    format!(
+        r#"{{"version": 1, "until": 5, "on_collision": "{mode}", "polygons": [
+            {{"id": "a", "vertices": {TRIANGLE}, "position": [0, 0], "velocity": [1, 0]}},
+            {{"id": "b", "vertices": {TRIANGLE}, "position": [4, 0], "velocity": [-1, 0]}}
+        ]}}"#
+    )
+}
+
+// ---------------------------------------------------------------------------
+// JSON reading
+// ---------------------------------------------------------------------------
+
+#[test]
+fn contract_example_parses() {
+    let sc = parse_scenario(
+        r#"{
+  "version": 1,
+  "until": 50.0,
+  "on_collision": "remove",
+  "polygons": [
+    {
+      "id": "a",
+      "vertices": [[-1.0, 0.0], [1.0, 0.0], [0.0, 1.5]],
+      "position": [0.0, 0.0],
+      "velocity": [1.0, 0.25]
+    },
+    {
+      "id": "wall",
+      "vertices": [[0, 0], [1, 0], [1, 20], [0, 20]],
+      "position": [30.0, -10.0],
+      "fixed": true
+    }
+  ],
+  "flight_plan_changes": [
+    { "time": 10.0, "id": "a", "velocity": [0.0, -1.0] }
+  ]
+}"#,
+    )
+    .unwrap();
+    assert_eq!(sc.until, 50.0);
+    assert_eq!(sc.on_collision, kss::CollisionMode::Remove);
+    assert_eq!(sc.polygons.len(), 2);
+    assert_eq!(sc.polygons[1].velocity, [0.0, 0.0]);
+    assert!(sc.polygons[1].fixed);
+    assert_eq!(sc.polygons[1].vertices[2], [1.0, 20.0]);
+    assert_eq!(sc.flight_plan_changes[0].velocity, [0.0, -1.0]);
+}
+
+#[test]
+fn defaults_and_unknown_fields() {
+    let sc = parse_scenario(
+        r#"{"version": 1, "until": 1, "comment": "hi", "polygons": [
+            {"id": "a", "vertices": [[0,0],[1,0],[0,1]], "position": [0,0], "colour": "red"}]}"#,
+    )
+    .unwrap();
+    assert_eq!(sc.on_collision, kss::CollisionMode::Stop);
+    assert_eq!(sc.polygons[0].velocity, [0.0, 0.0]);
+    assert!(!sc.polygons[0].fixed);
+    assert!(sc.flight_plan_changes.is_empty());
+    let empty = parse_scenario(r#"{"version": 1, "until": 1, "polygons": []}"#).unwrap();
+    assert!(empty.polygons.is_empty());
+}
+
+#[test]
+fn numbers_are_correctly_rounded() {
+    let literal = |lit: &str| -> f64 {
+        let sc = parse_scenario(&format!(
+            r#"{{"version": 1, "until": {lit}, "polygons": []}}"#
+        ))
+        .unwrap();
+        sc.until
+    };
+    for lit in [
+        "0.1",
+        "2.2250738585072011e-308",
+        "1.7976931348623157e308",
+        "4.9e-324",
+        "9007199254740993",
+        "123456789012345678901234567890",
+        "0.30000000000000004",
+        "1.00000000000000011102230246251565404236316680908203125",
+        "1.000000000000000111022302462515654042363166809082031251",
+        "18446744073709551615",
+        "-9223372036854775809",
+    ] {
+        let want: f64 = lit.parse().unwrap();
+        assert_eq!(literal(lit).to_bits(), want.to_bits(), "{lit}");
+    }
+    assert_eq!(
+        literal("1.00000000000000011102230246251565404236316680908203125"),
+        1.0
+    );
+    assert!(literal("1.000000000000000111022302462515654042363166809082031251") > 1.0);
+}
+
+#[test]
+fn error_malformed_json_has_line_and_column() {
+    let e = err("{\n  \"version\": 1,\n  \"until\": 5,\n  \"polygons\": [ }\n");
+    match &e {
+        ScenarioJsonError::Syntax { line, column, .. } => {
+            assert_eq!(*line, 4);
+            assert!(*column > 0);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(e.to_string().contains("line 4"), "{e}");
+    assert!(matches!(err(""), ScenarioJsonError::Syntax { .. }));
+    assert!(matches!(
+        err("{\"version\": 1"),
+        ScenarioJsonError::Syntax { .. }
+    ));
+    assert!(matches!(err("[1, 2] x"), ScenarioJsonError::Syntax { .. }));
+}
+
+#[test]
+fn error_number_overflow_is_refused() {
+    for lit in [
+        "1e999",
+        "-1e999",
+        "1.5e309",
+        &format!("1{}", "0".repeat(400)),
+    ] {
+        let e = err(&format!(
+            r#"{{"version": 1, "until": 5, "polygons": [
+                {{"id": "a", "vertices": [[0,0],[{lit},0],[0,1]], "position": [0,0]}}]}}"#
+        ));
+        match &e {
+            ScenarioJsonError::NumberOutOfRange { line, .. } => assert_eq!(*line, 2),
+            other => panic!("{lit}: {other:?}"),
+        }
+        assert!(e.to_string().contains("out of range"), "{e}");
+    }
+    // Underflow is not an error: the literal means the nearest double, 0.
+    let sc = parse_scenario(r#"{"version": 1, "until": 1e-999, "polygons": []}"#).unwrap();
+    assert_eq!(sc.until, 0.0);
+}
+
+#[test]
+fn error_missing_top_level_fields() {
+    for (text, field) in [
+        (r#"{"until": 5, "polygons": []}"#, "version"),
+        (r#"{"version": 1, "polygons": []}"#, "until"),
+        (r#"{"version": 1, "until": 5}"#, "polygons"),
+    ] {
+        let e = err(text);
+        assert_eq!(
+            e,
+            ScenarioJsonError::MissingField {
+                entry: "scenario".into(),
+                field
+            }
+        );
+        assert!(e.to_string().contains(field), "{e}");
+    }
+}
+
+#[test]
+fn error_missing_polygon_fields() {
+    let e =
+        err(r#"{"version": 1, "until": 5, "polygons": [{"vertices": [], "position": [0, 0]}]}"#);
+    assert_eq!(
+        e,
+        ScenarioJsonError::MissingField {
+            entry: "polygons[0]".into(),
+            field: "id"
+        }
+    );
+    let e = err(r#"{"version": 1, "until": 5, "polygons": [{"id": "rock", "position": [0, 0]}]}"#);
+    assert!(matches!(
+        &e,
+        ScenarioJsonError::MissingField {
+            field: "vertices",
+            ..
+        }
+    ));
+    assert!(
+        e.to_string().contains("\"rock\"") && e.to_string().contains("vertices"),
+        "{e}"
+    );
+    let e = err(&format!(
+        r#"{{"version": 1, "until": 5, "polygons": [
+            {{"id": "ok", "vertices": {TRIANGLE}, "position": [0, 0]}},
+            {{"id": "lost", "vertices": {TRIANGLE}}}]}}"#
+    ));
+    assert!(matches!(
+        &e,
+        ScenarioJsonError::MissingField {
+            field: "position",
+            ..
+        }
+    ));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("polygons[1]") && msg.contains("\"lost\"") && msg.contains("position"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn error_missing_change_fields() {
+    for (change, field) in [
+        (r#"{"id": "a", "velocity": [0, 1]}"#, "time"),
+        (r#"{"time": 1, "velocity": [0, 1]}"#, "id"),
+        (r#"{"time": 1, "id": "a"}"#, "velocity"),
+    ] {
+        let e = err(&format!(
+            r#"{{"version": 1, "until": 5, "polygons": [], "flight_plan_changes": [
+                {{"time": 0.5, "id": "a", "velocity": [1, 0]}}, {change}]}}"#
+        ));
+        assert_eq!(
+            e,
+            ScenarioJsonError::MissingField {
+                entry: "flight_plan_changes[1]".into(),
+                field
+            },
+            "{change}"
+        );
+        assert!(e.to_string().contains("flight_plan_changes[1]"));
+    }
+}
+
+#[test]
+fn error_wrong_types() {
+    let e = err(&format!(
+        r#"{{"version": 1, "until": 5, "polygons": [
+            {{"id": "jet", "vertices": {TRIANGLE}, "position": [0, 0], "velocity": "fast"}}]}}"#
+    ));
+    match &e {
+        ScenarioJsonError::WrongType { entry, field, .. } => {
+            assert!(entry.contains("\"jet\""));
+            assert_eq!(field, "velocity");
+        }
+        other => panic!("{other:?}"),
+    }
+    let msg = e.to_string();
+    assert!(
+        msg.contains("jet") && msg.contains("velocity") && msg.contains("\"fast\""),
+        "{msg}"
+    );
+
+    let cases = [
+        (
+            r#"{"version": 1, "until": "soon", "polygons": []}"#,
+            "until",
+        ),
+        (r#"{"version": 1, "until": 5, "polygons": {}}"#, "polygons"),
+        (
+            r#"{"version": 1, "until": 5, "polygons": [], "on_collision": 3}"#,
+            "on_collision",
+        ),
+        (
+            r#"{"version": 1, "until": 5, "polygons": [], "flight_plan_changes": 3}"#,
+            "flight_plan_changes",
+        ),
+        (
+            r#"{"version": 1, "until": 5, "polygons": [{"id": 7, "vertices": [], "position": [0,0]}]}"#,
+            "id",
+        ),
+        (
+            r#"{"version": 1, "until": 5, "polygons": [{"id": "f", "vertices": [], "position": [0,0], "fixed": "yes"}]}"#,
+            "fixed",
+        ),
+        (
+            r#"{"version": 1, "until": 5, "polygons": [{"id": "v", "vertices": 3, "position": [0,0]}]}"#,
+            "vertices",
+        ),
+        (
+            r#"{"version": 1, "until": 5, "polygons": [{"id": "p", "vertices": [], "position": null}]}"#,
+            "position",
+        ),
+        (
+            r#"{"version": 1, "until": 5, "polygons": [], "flight_plan_changes": [{"time": "1", "id": "a", "velocity": [0, 0]}]}"#,
+            "time",
+        ),
+    ];
+    for (text, want) in cases {
+        match err(text) {
+            ScenarioJsonError::WrongType { field, .. } => assert_eq!(field, want, "{text}"),
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+    assert!(matches!(err("[1, 2]"), ScenarioJsonError::WrongType { .. }));
+    assert!(matches!(
+        err(r#"{"version": 1, "until": 5, "polygons": [3]}"#),
+        ScenarioJsonError::WrongType { entry, .. } if entry == "polygons[0]"
+    ));
+}
+
+#[test]
+fn error_unknown_collision_mode() {
+    let e = err(r#"{"version": 1, "until": 5, "on_collision": "explode", "polygons": []}"#);
+    assert_eq!(
+        e,
+        ScenarioJsonError::UnknownMode {
+            value: "explode".into()
+        }
+    );
+    let msg = e.to_string();
+    assert!(
+        msg.contains("on_collision") && msg.contains("explode") && msg.contains("bounce"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn error_bad_version() {
+    for (v, shown) in [("2", "2"), ("0", "0"), ("1.5", "1.5"), ("\"1\"", "string")] {
+        let e = err(&format!(
+            r#"{{"version": {v}, "until": 5, "polygons": []}}"#
+        ));
+        assert!(matches!(e, ScenarioJsonError::BadVersion { .. }), "{v}");
+        let msg = e.to_string();
+        assert!(msg.contains("version") && msg.contains(shown), "{msg}");
+    }
+    // 1.0 is the number 1.
+    assert!(parse_scenario(r#"{"version": 1.0, "until": 5, "polygons": []}"#).is_ok());
+}
+
+#[test]
+fn error_points_must_have_two_numbers() {
+    for (bad, field) in [
+        ("[[0,0],[1,0,0],[0,1]]", "vertices[1]"),
+        ("[[0,0],[1,0],[0]]", "vertices[2]"),
+        ("[[0,0],[1,0],[0,\"1\"]]", "vertices[2]"),
+        ("[[0,0],3,[0,1]]", "vertices[1]"),
+        ("[[0,0],[],[0,1]]", "vertices[1]"),
+    ] {
+        let e = err(&format!(
+            r#"{{"version": 1, "until": 5, "polygons": [{{"id": "tri", "vertices": {bad}, "position": [0,0]}}]}}"#
+        ));
+        match &e {
+            ScenarioJsonError::BadPoint {
+                entry, field: f, ..
+            } => {
+                assert!(entry.contains("\"tri\""), "{entry}");
+                assert_eq!(f, field);
+            }
+            other => panic!("{bad}: {other:?}"),
+        }
+        assert!(e.to_string().contains(field));
+    }
+    for bad in ["[1, 2, 3]", "[1]", "[true, 2]"] {
+        let e = err(&format!(
+            r#"{{"version": 1, "until": 5, "polygons": [{{"id": "p", "vertices": {TRIANGLE}, "position": {bad}}}]}}"#
+        ));
+        assert!(
+            matches!(&e, ScenarioJsonError::BadPoint { field, .. } if field == "position"),
+            "{bad}: {e:?}"
+        );
+    }
+}
+
+#[test]
+fn writer_round_trips_exactly() {
+    for f in Family::ALL {
+        for seed in 0..25 {
+            let sc = kss::gen::generate_small(f, seed);
+            let text = write_scenario(&sc).unwrap();
+            let back = parse_scenario(&text).unwrap();
+            assert_identical(&sc, &back);
+        }
+    }
+    // Awkward doubles, negative zero, an empty scenario, escaped ids.
+    let mut sc = kss::gen::demo();
+    sc.polygons[0].position = [-0.0, 5e-324];
+    sc.polygons[0].velocity = [0.1 + 0.2, 1.7976931348623157e308];
+    sc.polygons[1].id = "quote\" back\\ slash \u{1} ünï".into();
+    let back = parse_scenario(&write_scenario(&sc).unwrap()).unwrap();
+    assert_identical(&sc, &back);
+    let empty = Scenario {
+        until: 1.0,
+        on_collision: kss::CollisionMode::Bounce,
+        polygons: vec![],
+        flight_plan_changes: vec![],
+    };
+    assert_identical(
+        &empty,
+        &parse_scenario(&write_scenario(&empty).unwrap()).unwrap(),
+    );
+    let mut bad = kss::gen::demo();
+    bad.polygons[2].vertices[1][0] = f64::NAN;
+    let e = write_scenario(&bad).unwrap_err();
+    assert!(e.to_string().contains(&bad.polygons[2].id));
+}
+
+#[test]
+fn event_lines_and_stats_are_json() {
+    let e = kss::CollisionEvent {
+        time: kss_time(2.5),
+        a: "p\"1".into(),
+        b: "p2".into(),
+        point: [1.0, -0.5],
+    };
+    let line = kss_cli::commands::event_line(&e);
+    let v: serde_json::Value = serde_json::from_str(&line).unwrap();
+    assert_eq!(v["time"], 2.5);
+    assert_eq!(v["a"], "p\"1");
+    assert_eq!(v["b"], "p2");
+    assert!(line.starts_with("{\"time\": 2.5, \"a\": "), "{line}");
+    let mut stats = kss::RunStats {
+        structure: "brute",
+        polygons: 2,
+        vertices: 6,
+        events_processed: 3,
+        collisions: 1,
+        ..Default::default()
+    };
+    stats.events_by_kind.insert("collision".into(), 1);
+    let v: serde_json::Value =
+        serde_json::from_str(&kss_cli::commands::stats_json(&stats, 0.25)).unwrap();
+    for key in [
+        "structure",
+        "polygons",
+        "vertices",
+        "events_processed",
+        "events_by_kind",
+        "certificates_max",
+        "certificates_final",
+        "collisions",
+        "wall_seconds",
+    ] {
+        assert!(v.get(key).is_some(), "{key}");
+    }
+    assert_eq!(v["events_by_kind"]["collision"], 1);
+    assert_eq!(v["wall_seconds"], 0.25);
+}
+
+/// The event time type of the library, built from a double.
+fn kss_time(t: f64) -> kss::num::Time {
+    kss::num::Time::from_f64(t).expect("a finite time")
+}
+
+// ---------------------------------------------------------------------------
+// The binary
+// ---------------------------------------------------------------------------
+
+#[test]
+fn help_and_usage_errors() {
+    let o = run_kss(&["--help"], None);
+    assert!(o.status.success());
+    let text = stdout(&o);
+    for cmd in ["run", "gen", "render", "demo"] {
+        assert!(text.contains(cmd), "{text}");
+    }
+    let o = run_kss(&["run"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run_kss(&["run", "x.json", "--until", "-1"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run_kss(&["run", "x.json", "--structure", "quantum"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run_kss(&["gen", "nebula"], None);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn gen_every_family_round_trips() {
+    for f in Family::ALL {
+        for seed in [0u64, 7] {
+            let s = seed.to_string();
+            let o = run_kss(&["gen", f.name(), "--small", "--seed", &s], None);
+            assert!(o.status.success(), "{}: {}", f.name(), stderr(&o));
+            let sc = parse_scenario(&stdout(&o)).unwrap();
+            assert_identical(&sc, &kss::gen::generate_small(f, seed));
+            // Default parameters too (and stdout carries nothing else).
+            let o = run_kss(&["gen", f.name(), "--seed", &s], None);
+            assert!(o.status.success(), "{}: {}", f.name(), stderr(&o));
+            let sc = parse_scenario(&stdout(&o)).unwrap();
+            assert!(sc.polygons.len() >= 2, "{}", f.name());
+            let again = run_kss(&["gen", f.name(), "--seed", &s], None);
+            assert_eq!(o.stdout, again.stdout, "{} is not deterministic", f.name());
+        }
+    }
+}
+
+#[test]
+fn gen_options_and_output_file() {
+    let dir = temp_dir();
+    let path = dir.join("fly.json");
+    let p = path.to_str().unwrap();
+    let o = run_kss(
+        &[
+            "gen",
+            "flypast",
+            "--n",
+            "1000",
+            "--ratio",
+            "100",
+            "--a-moving",
+            "-o",
+            p,
+            "--seed",
+            "3",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stdout.is_empty());
+    assert!(stderr(&o).contains("achieved gap"));
+    let sc = parse_scenario(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(sc.polygons.len(), 2);
+    assert_eq!(sc.polygons[0].vertices.len(), 1000);
+    assert!(!sc.polygons[0].fixed);
+    let want = kss::gen::flypast(&kss::gen::FlypastParams {
+        n: 1000,
+        gap: 0.01,
+        a_moving: true,
+        seed: 3,
+        ..Default::default()
+    });
+    assert_identical(&sc, &want);
+
+    let o = run_kss(
+        &["gen", "flypast", "--gap", "-0.1", "--mode", "remove"],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sc = parse_scenario(&stdout(&o)).unwrap();
+    assert_eq!(sc.on_collision, kss::CollisionMode::Remove);
+    assert!(stderr(&o).contains("collide"));
+
+    let o = run_kss(
+        &[
+            "gen",
+            "gas",
+            "--k",
+            "9",
+            "--n",
+            "5",
+            "--walls",
+            "--changes",
+            "3",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sc = parse_scenario(&stdout(&o)).unwrap();
+    assert_eq!(sc.polygons.len(), 13);
+    assert_eq!(sc.on_collision, kss::CollisionMode::Bounce);
+    assert!(sc.polygons.iter().filter(|p| p.fixed).count() == 4);
+
+    let o = run_kss(
+        &["gen", "simultaneous", "--pairs", "5", "--no-triple"],
+        None,
+    );
+    let sc = parse_scenario(&stdout(&o)).unwrap();
+    assert_eq!(sc.polygons.len(), 10);
+    let o = run_kss(&["gen", "far", "--k", "4", "--offset", "2e6"], None);
+    let sc = parse_scenario(&stdout(&o)).unwrap();
+    assert!(sc
+        .polygons
+        .iter()
+        .all(|p| p.position[0] + p.vertices[0][0] > 1.9e6));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn gen_refuses_bad_parameters() {
+    let o = run_kss(&["gen", "flypast", "--n", "2"], None);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("n is 2"), "{}", stderr(&o));
+    let o = run_kss(&["gen", "flypast", "--gap", "-5"], None);
+    assert_eq!(o.status.code(), Some(1));
+    let o = run_kss(&["gen", "gas", "--min-n", "2"], None);
+    assert_eq!(o.status.code(), Some(1));
+    let o = run_kss(&["gen", "gas", "--small", "--k", "3"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run_kss(&["gen", "flypast", "--gap", "1", "--ratio", "3"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run_kss(&["gen", "grazing", "--pairs", "0"], None);
+    assert_eq!(o.status.code(), Some(1));
+}
+
+#[test]
+fn run_refuses_malformed_input() {
+    let o = run_kss(&["run", "-"], Some("{\"version\": 1,\n \"until\": "));
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("line 2"), "{}", stderr(&o));
+    assert!(o.stdout.is_empty());
+    let o = run_kss(
+        &["run", "-", "--structure", "brute"],
+        Some(
+            r#"{"version": 1, "until": 5, "polygons": [{"id": "x", "vertices": [[0,0],[1,0],[0,1]], "position": [0, "y"]}]}"#,
+        ),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("\"x\""), "{}", stderr(&o));
+    let o = run_kss(
+        &["run", "-"],
+        Some(r#"{"version": 1, "until": 1e999, "polygons": []}"#),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("out of range"));
+    let o = run_kss(&["run", "/nonexistent/kss/scenario.json"], None);
+    assert_eq!(o.status.code(), Some(5));
+    assert!(stderr(&o).contains("/nonexistent/kss/scenario.json"));
+}
+
+#[test]
+fn run_exit_status_is_zero_or_not_implemented() {
+    // Whatever the state of the structures, a valid scenario gives either a
+    // complete run (0) or a clean "not implemented" (3), never a crash.
+    for structure in ["hierarchical", "plain", "brute"] {
+        let o = run_kss(
+            &["run", "-", "--structure", structure],
+            Some(&two_triangles("stop")),
+        );
+        let code = o.status.code();
+        assert!(
+            code == Some(0) || code == Some(3),
+            "{structure}: {code:?} {}",
+            stderr(&o)
+        );
+        if code == Some(3) {
+            assert!(stderr(&o).contains("not implemented"));
+            assert!(o.stdout.is_empty());
+        }
+    }
+}
+
+#[test]
+fn run_prints_events() {
+    let o = run_kss(
+        &["run", "-", "--structure", "brute"],
+        Some(&two_triangles("stop")),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = stdout(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 1, "{out}");
+    let v: serde_json::Value = serde_json::from_str(lines[0]).unwrap();
+    assert_eq!(v["time"], 1.0);
+    assert_eq!(v["a"], "a");
+    assert_eq!(v["b"], "b");
+    assert!(stderr(&o).contains("1 collision"));
+    // --until before the contact: no event, still a complete run.
+    let o = run_kss(
+        &["run", "-", "--structure", "brute", "--until", "0.5"],
+        Some(&two_triangles("stop")),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    assert!(o.stdout.is_empty());
+}
+
+#[test]
+fn run_writes_stats() {
+    let dir = temp_dir();
+    let scenario = dir.join("s.json");
+    std::fs::write(&scenario, two_triangles("remove")).unwrap();
+    let stats = dir.join("stats.json");
+    let o = run_kss(
+        &[
+            "run",
+            scenario.to_str().unwrap(),
+            "--structure",
+            "brute",
+            "--stats",
+            stats.to_str().unwrap(),
+            "--audit",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(v["structure"], "brute");
+    assert_eq!(v["polygons"], 2);
+    assert_eq!(v["vertices"], 6);
+    assert_eq!(v["collisions"], 1);
+    assert!(v["wall_seconds"].as_f64().unwrap() >= 0.0);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn run_refuses_invalid_scenarios() {
+    // Overlapping at time 0: the message names the pair.
+    let text = format!(
+        r#"{{"version": 1, "until": 5, "polygons": [
+            {{"id": "left", "vertices": {TRIANGLE}, "position": [0, 0]}},
+            {{"id": "right", "vertices": {TRIANGLE}, "position": [0.5, 0]}}]}}"#
+    );
+    let o = run_kss(&["run", "-", "--structure", "brute"], Some(&text));
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("left") && err.contains("right"), "{err}");
+    assert!(o.stdout.is_empty());
+}
+
+#[test]
+fn run_survives_a_closed_pipe() {
+    // Thousands of events (four polygons bouncing in a box for a long time),
+    // and a reader that goes away after the first line.
+    let sc = kss::gen::gas(&kss::gen::GasParams {
+        k: 4,
+        walls: true,
+        until: 300.0,
+        max_speed: 2.0,
+        mode: kss::CollisionMode::Bounce,
+        ..Default::default()
+    });
+    let text = write_scenario(&sc).unwrap();
+    let mut child = kss()
+        .args(["run", "-", "--structure", "brute"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    {
+        use std::io::Write;
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
+    }
+    {
+        use std::io::BufRead;
+        let mut out = std::io::BufReader::new(child.stdout.take().unwrap());
+        let mut first = String::new();
+        out.read_line(&mut first).unwrap();
+        assert!(first.starts_with("{\"time\""));
+        // Dropping the reader closes the pipe.
+    }
+    let o = child.wait_with_output().unwrap();
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(0));
+}
+
+#[test]
+fn render_writes_an_svg() {
+    let dir = temp_dir();
+    let scenario = dir.join("s.json");
+    std::fs::write(&scenario, two_triangles("stop")).unwrap();
+    let svg = dir.join("out.svg");
+    let o = run_kss(
+        &[
+            "render",
+            scenario.to_str().unwrap(),
+            "--time",
+            "0.5",
+            "--structure",
+            "brute",
+            "-o",
+            svg.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("t = 0.5"));
+    assert_eq!(text.matches("<polygon").count(), 2);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn render_refuses_bad_input() {
+    let o = run_kss(&["render", "-", "--time", "1"], Some("not json"));
+    assert_eq!(o.status.code(), Some(1));
+    let o = run_kss(&["render", "-", "--time", "nan"], Some("{}"));
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn demo_runs_and_draws() {
+    let dir = temp_dir();
+    let svg = dir.join("demo.svg");
+    let o = run_kss(&["demo", "-o", svg.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.lines().count() >= 2, "{out}");
+    for line in out.lines() {
+        let v: serde_json::Value = serde_json::from_str(line).unwrap();
+        assert!(v["time"].as_f64().unwrap() <= 12.0);
+    }
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"));
+    assert!(stderr(&o).contains("demo.svg"));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn demo_fails_cleanly_or_runs() {
+    let dir = temp_dir();
+    let svg = dir.join("demo.svg");
+    let o = run_kss(&["demo", "-o", svg.to_str().unwrap()], None);
+    let code = o.status.code();
+    assert!(
+        code == Some(0) || code == Some(3),
+        "{code:?}: {}",
+        stderr(&o)
+    );
+    assert!(!stderr(&o).contains("panicked"));
+    let _ = std::fs::remove_dir_all(dir);
+}
