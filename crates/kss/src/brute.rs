@@ -20,7 +20,7 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
-use crate::geom::{for_each_minkowski_edge, orient, Point};
+use crate::geom::{for_each_minkowski_edge, Point};
 use crate::num::{Int, Rational, Sign, Time};
 use crate::world::{BodyId, World};
 
@@ -176,106 +176,190 @@ fn frac_cmp(x: &(Int, Int), y: &(Int, Int)) -> std::cmp::Ordering {
     (&x.0 * &y.1).cmp(&(&y.0 * &x.1))
 }
 
-/// Vertex against edge, both ways, in exact rationals.
+/// A pair's relative motion in integers: in a frame where `B` sits at the
+/// origin and every length is scaled by the same positive factor, vertex `i`
+/// of `A` is at `r0 + rw·t + M·a_i` and vertex `j` of `B` at `M·b_j`, with
+/// `a_i`, `b_j` the body polygons' integer coordinates.
+struct PairFrame {
+    r0: (Int, Int),
+    rw: (Int, Int),
+    m: Int,
+    a: Vec<(Int, Int)>,
+    b: Vec<(Int, Int)>,
+}
+
+impl PairFrame {
+    fn new(world: &World, a: BodyId, b: BodyId) -> PairFrame {
+        let (d0, w) = relative_motion(world, a, b);
+        let mut den = d0.x.denom().clone();
+        for r in [&d0.y, &w.x, &w.y] {
+            den = lcm(&den, r.denom());
+        }
+        let sc = |r: &Rational| r.numer() * (&den / r.denom());
+        let (sa, sb) = (&world.body(a).shape, &world.body(b).shape);
+        let exp = sa.exp().min(sb.exp());
+        let ints = |p: &crate::geom::BodyPolygon| -> Vec<(Int, Int)> {
+            let sh = (p.exp() - exp) as usize;
+            (0..p.len())
+                .map(|i| {
+                    let (x, y) = p.int_vertex(i);
+                    (x << sh, y << sh)
+                })
+                .collect()
+        };
+        let (mut r0, mut rw) = ((sc(&d0.x), sc(&d0.y)), (sc(&w.x), sc(&w.y)));
+        let m = if exp >= 0 {
+            &den << exp as usize
+        } else {
+            let s = (-exp) as usize;
+            r0 = (&r0.0 << s, &r0.1 << s);
+            rw = (&rw.0 << s, &rw.1 << s);
+            den
+        };
+        PairFrame {
+            r0,
+            rw,
+            m,
+            a: ints(sa),
+            b: ints(sb),
+        }
+    }
+}
+
+fn cross(u: &(Int, Int), v: &(Int, Int)) -> Int {
+    &u.0 * &v.1 - &u.1 * &v.0
+}
+
+fn dot(u: &(Int, Int), v: &(Int, Int)) -> Int {
+    &u.0 * &v.0 + &u.1 * &v.1
+}
+
+/// Vertex against edge, both ways, in exact integer arithmetic.
 fn simple_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
-    let (d0, w) = relative_motion(world, a, b);
-    let mut start: Option<Option<Rational>> = None; // Some(None) = −∞
-    let mut end: Option<Option<Rational>> = None; // Some(None) = +∞
-    let mut touch = |lo: Option<Rational>, hi: Option<Rational>| {
+    let f = PairFrame::new(world, a, b);
+    // Times as fractions (num, den > 0); None = unbounded.
+    let mut start: Option<Option<(Int, Int)>> = None;
+    let mut end: Option<Option<(Int, Int)>> = None;
+    let mut touch = |lo: Option<(Int, Int)>, hi: Option<(Int, Int)>| {
         start = Some(match (start.take(), lo) {
             (None, lo) => lo,
             (Some(None), _) | (_, None) => None,
-            (Some(Some(s)), Some(l)) => Some(if l < s { l } else { s }),
+            (Some(Some(s)), Some(l)) => Some(if frac_cmp(&l, &s).is_lt() { l } else { s }),
         });
         end = Some(match (end.take(), hi) {
             (None, hi) => hi,
             (Some(None), _) | (_, None) => None,
-            (Some(Some(e)), Some(h)) => Some(if h > e { h } else { e }),
+            (Some(Some(e)), Some(h)) => Some(if frac_cmp(&h, &e).is_gt() { h } else { e }),
         });
     };
-    // Vertex p of P (relative offset rel0 + rel_w t from Q's frame) against
-    // edge (q, r) of Q.
-    let mut vertex_edges = |p_body: BodyId, q_body: BodyId, sign: &Rational| {
-        let (pb, qb) = (world.body(p_body), world.body(q_body));
-        // position of p relative to Q's frame: sign·d(t) + p_i (d = a − b)
-        let base0 = d0.scale(sign);
-        let basew = w.scale(sign);
-        let m = qb.shape.len();
-        for i in 0..pb.shape.len() {
-            let pi = pb.shape.vertex(i);
+    let frac = |n: Int, d: Int| if d < Int::ZERO { (-n, -d) } else { (n, d) };
+    // Vertices of P moving by `sign·(r0 + rw t)` against the edges of Q.
+    let mut vertex_edges = |p: &[(Int, Int)], q: &[(Int, Int)], negate: bool| {
+        let (r0, rw) = if negate {
+            (
+                (-f.r0.0.clone(), -f.r0.1.clone()),
+                (-f.rw.0.clone(), -f.rw.1.clone()),
+            )
+        } else {
+            (f.r0.clone(), f.rw.clone())
+        };
+        let m = q.len();
+        for pi in p {
             for j in 0..m {
-                let q = qb.shape.vertex(j);
-                let r = qb.shape.vertex((j + 1) % m);
-                let e = r.sub(&q);
-                // rel(t) = base0 + p_i − q + basew·t
-                let rel0 = base0.add(&pi).sub(&q);
-                // on the line: e × rel(t) = 0
-                let c0 = e.cross(&rel0);
-                let c1 = e.cross(&basew);
-                // position along the edge: e · rel(t) ∈ [0, e·e]
-                let s0 = e.dot(&rel0);
-                let s1 = e.dot(&basew);
-                let ee = e.dot(&e);
+                let (qj, qk) = (&q[j], &q[(j + 1) % m]);
+                let e = (&qk.0 - &qj.0, &qk.1 - &qj.1);
+                // rel(t) = r0 + M (p_i − q_j) + rw t
+                let rel0 = (
+                    &r0.0 + &f.m * (&pi.0 - &qj.0),
+                    &r0.1 + &f.m * (&pi.1 - &qj.1),
+                );
+                let (c0, c1) = (cross(&e, &rel0), cross(&e, &rw));
+                // along the edge: e · rel(t) ∈ [0, M e·e]
+                let (s0, s1) = (dot(&e, &rel0), dot(&e, &rw));
+                let ee = &f.m * dot(&e, &e);
                 if !c1.is_zero() {
-                    let t = c0.neg().div(&c1);
-                    let s = s0.add(&s1.mul(&t));
-                    if s.sign() != Sign::Negative && s <= ee {
-                        touch(Some(t.clone()), Some(t));
+                    let (tn, td) = frac(-c0, c1);
+                    // s(t) = s0 + s1 tn/td ∈ [0, ee]  ⇔  s0 td + s1 tn ∈ [0, ee td]
+                    let st = &s0 * &td + &s1 * &tn;
+                    if st >= Int::ZERO && st <= &ee * &td {
+                        touch(Some((tn.clone(), td.clone())), Some((tn, td)));
                     }
                 } else if c0.is_zero() {
-                    // moving along the edge's line
                     if s1.is_zero() {
-                        if s0.sign() != Sign::Negative && s0 <= ee {
+                        if s0 >= Int::ZERO && s0 <= ee {
                             touch(None, None);
                         }
                     } else {
-                        let t0 = s0.neg().div(&s1);
-                        let t1 = ee.sub(&s0).div(&s1);
-                        let (lo, hi) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
+                        let t0 = frac(-s0.clone(), s1.clone());
+                        let t1 = frac(&ee - &s0, s1);
+                        let (lo, hi) = if frac_cmp(&t0, &t1).is_lt() {
+                            (t0, t1)
+                        } else {
+                            (t1, t0)
+                        };
                         touch(Some(lo), Some(hi));
                     }
                 }
             }
         }
     };
-    let one = Rational::one();
-    vertex_edges(a, b, &one);
-    vertex_edges(b, a, &one.neg());
+    vertex_edges(&f.a, &f.b, false);
+    vertex_edges(&f.b, &f.a, true);
     let (Some(start), Some(end)) = (start, end) else {
         return ContactInterval::Never;
     };
     // Interiors overlap somewhere inside iff they do at an inner instant.
+    let one = (Int::ONE, Int::ONE);
     let inner = match (&start, &end) {
-        (Some(s), Some(e)) if s < e => Some(s.midpoint(e)),
+        (Some(s), Some(e)) if frac_cmp(s, e).is_lt() => {
+            Some((&s.0 * &e.1 + &e.0 * &s.1, Int::from(2) * &s.1 * &e.1))
+        }
         (Some(_), Some(_)) => None,
-        (Some(s), None) => Some(s.add(&one)),
-        (None, Some(e)) => Some(e.sub(&one)),
-        (None, None) => Some(Rational::zero()),
+        (Some(s), None) => Some((&s.0 + &s.1, s.1.clone())),
+        (None, Some(e)) => Some((&e.0 - &e.1, e.1.clone())),
+        (None, None) => Some((Int::ZERO, one.1.clone())),
     };
-    let penetrating = inner.is_some_and(|t| interiors_overlap(world, a, b, &t));
+    let penetrating = inner.is_some_and(|(tn, td)| f.interiors_overlap(&tn, &td));
+    let rat = |x: Option<(Int, Int)>| x.map(|(n, d)| Rational::new(n, d));
     ContactInterval::During {
-        start,
-        end,
+        start: rat(start),
+        end: rat(end),
         penetrating,
     }
 }
 
-/// Whether the interiors of two bodies overlap at time `t` (no edge line of
-/// either weakly separates them).
+impl PairFrame {
+    /// Whether the interiors overlap at `t = tn/td` (`td > 0`): no edge line
+    /// of either polygon weakly separates them.
+    fn interiors_overlap(&self, tn: &Int, td: &Int) -> bool {
+        let shift = (
+            &self.r0.0 * td + &self.rw.0 * tn,
+            &self.r0.1 * td + &self.rw.1 * tn,
+        );
+        let mt = &self.m * td;
+        let pa: Vec<(Int, Int)> = self
+            .a
+            .iter()
+            .map(|p| (&shift.0 + &mt * &p.0, &shift.1 + &mt * &p.1))
+            .collect();
+        let pb: Vec<(Int, Int)> = self.b.iter().map(|p| (&mt * &p.0, &mt * &p.1)).collect();
+        !(weakly_separates(&pa, &pb) || weakly_separates(&pb, &pa))
+    }
+}
+
+/// Whether some edge line of `p` has all of `q` on its closed outer side.
+fn weakly_separates(p: &[(Int, Int)], q: &[(Int, Int)]) -> bool {
+    (0..p.len()).any(|i| {
+        let (u, v) = (&p[i], &p[(i + 1) % p.len()]);
+        let e = (&v.0 - &u.0, &v.1 - &u.1);
+        q.iter()
+            .all(|x| cross(&e, &(&x.0 - &u.0, &x.1 - &u.1)) <= Int::ZERO)
+    })
+}
+
+/// Whether the interiors of two bodies overlap at time `t`.
 pub fn interiors_overlap(world: &World, a: BodyId, b: BodyId, t: &Rational) -> bool {
-    let pa: Vec<Point> = (0..world.body(a).shape.len())
-        .map(|i| world.body(a).vertex_at(i, t))
-        .collect();
-    let pb: Vec<Point> = (0..world.body(b).shape.len())
-        .map(|i| world.body(b).vertex_at(i, t))
-        .collect();
-    let weakly_separates = |p: &[Point], q: &[Point]| {
-        (0..p.len()).any(|i| {
-            let (u, v) = (&p[i], &p[(i + 1) % p.len()]);
-            q.iter().all(|x| orient(u, v, x) != Sign::Positive)
-        })
-    };
-    !(weakly_separates(&pa, &pb) || weakly_separates(&pb, &pa))
+    PairFrame::new(world, a, b).interiors_overlap(t.numer(), t.denom())
 }
 
 /// The brute-force engine: every active pair's next collision in one ordered set.

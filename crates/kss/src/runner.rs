@@ -132,15 +132,14 @@ pub fn snapshot_at(
     Ok(crate::render::Snapshot { time, polygons })
 }
 
+/// The earliest collision instant and the pairs colliding then.
+type Collisions = Option<(Time, Vec<(BodyId, BodyId)>)>;
+
 /// A structure that finds collisions, driven by [`drive`].
 trait Engine {
     /// Process internal events up to the earliest collision time at most
     /// `limit`; return that time and every pair colliding then.
-    fn next_collisions(
-        &mut self,
-        world: &World,
-        limit: &Time,
-    ) -> Result<Option<(Time, Vec<(BodyId, BodyId)>)>, RunError>;
+    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError>;
     /// The world changed at `now`: `bodies` changed trajectory or were
     /// removed; `reported` were just reported as colliding.
     fn update(
@@ -164,11 +163,7 @@ trait Engine {
 struct BruteEngine(Brute);
 
 impl Engine for BruteEngine {
-    fn next_collisions(
-        &mut self,
-        _world: &World,
-        limit: &Time,
-    ) -> Result<Option<(Time, Vec<(BodyId, BodyId)>)>, RunError> {
+    fn next_collisions(&mut self, _world: &World, limit: &Time) -> Result<Collisions, RunError> {
         Ok(self.0.next_collisions(limit))
     }
 
@@ -206,7 +201,10 @@ impl Engine for BruteEngine {
 
 fn make_engine(world: &World, options: &RunOptions) -> Result<Box<dyn Engine>, RunError> {
     match options.structure {
-        StructureKind::Brute => Ok(Box::new(BruteEngine(Brute::new(world, options.pair_method)))),
+        StructureKind::Brute => Ok(Box::new(BruteEngine(Brute::new(
+            world,
+            options.pair_method,
+        )))),
         other => Err(RunError::NotImplemented(other.name())),
     }
 }
@@ -325,16 +323,12 @@ fn audit(world: &World, engine: &dyn Engine, now: &Time, end: &Time) -> Result<(
             next = t;
         }
     }
-    let at = if *now < next {
-        now.rational_between(&next)
-    } else if *now == *end {
-        // the run ends here: audit a little after the end
-        let r = now.as_rational().cloned().unwrap_or_else(Rational::zero);
-        r.add(&Rational::one())
-    } else {
-        // another event is due at this very instant: audit once it is done
+    if *now >= next {
+        // Another event is due at this very instant (audit once it is done),
+        // or the run ends here (nothing after `until` is simulated).
         return Ok(());
-    };
+    }
+    let at = now.rational_between(&next);
     engine
         .audit(world, now, &at)
         .map_err(|e| RunError::Internal(format!("audit failed after t = {now}: {e}")))

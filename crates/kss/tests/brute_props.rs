@@ -25,8 +25,10 @@ fn events(s: &Scenario, method: PairMethod, audit: bool) -> Vec<(Time, String, S
         pair_method: method,
         ..Default::default()
     };
-    run(s, &opts, &mut |e| out.push((e.time.clone(), e.a.clone(), e.b.clone())))
-        .unwrap_or_else(|e| panic!("{e}"));
+    run(s, &opts, &mut |e| {
+        out.push((e.time.clone(), e.a.clone(), e.b.clone()))
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
     out
 }
 
@@ -47,14 +49,21 @@ fn fast_and_simple_pair_methods_agree() {
         }
     }
     eprintln!("{total} scenarios, {with_events} with collisions");
-    assert!(with_events * 3 > total, "the sweep must exercise collisions");
+    assert!(
+        with_events * 3 > total,
+        "the sweep must exercise collisions"
+    );
 }
 
 fn transformed(s: &Scenario, f: impl Fn([f64; 2]) -> [f64; 2], scale_v: f64) -> Scenario {
     let mut t = s.clone();
     for p in &mut t.polygons {
         p.position = f(p.position);
-        p.vertices = p.vertices.iter().map(|v| [v[0] * scale_v, v[1] * scale_v]).collect();
+        p.vertices = p
+            .vertices
+            .iter()
+            .map(|v| [v[0] * scale_v, v[1] * scale_v])
+            .collect();
         p.velocity = [p.velocity[0] * scale_v, p.velocity[1] * scale_v];
     }
     for c in &mut t.flight_plan_changes {
@@ -123,7 +132,11 @@ fn invariant_under_consistent_renaming() {
                 .into_iter()
                 .map(|(t, a, b)| {
                     let (a, b) = (rename(&a), rename(&b));
-                    if a < b { (t, a, b) } else { (t, b, a) }
+                    if a < b {
+                        (t, a, b)
+                    } else {
+                        (t, b, a)
+                    }
                 })
                 .collect();
             // same instant: sorted by (a, b) under the new names
@@ -134,9 +147,17 @@ fn invariant_under_consistent_renaming() {
             // first instant only there.
             if r.on_collision == kss::CollisionMode::Bounce {
                 let first = |v: &Vec<(Time, String, String)>| {
-                    v.iter().take_while(|e| Some(&e.0) == v.first().map(|f| &f.0)).cloned().collect::<Vec<_>>()
+                    v.iter()
+                        .take_while(|e| Some(&e.0) == v.first().map(|f| &f.0))
+                        .cloned()
+                        .collect::<Vec<_>>()
                 };
-                assert_eq!(first(&expected), first(&got), "{} seed {seed}", family.name());
+                assert_eq!(
+                    first(&expected),
+                    first(&got),
+                    "{} seed {seed}",
+                    family.name()
+                );
             } else {
                 assert_eq!(expected, got, "{} seed {seed}", family.name());
             }

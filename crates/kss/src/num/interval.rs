@@ -105,74 +105,6 @@ impl Interval {
         }
     }
 
-    /// `self + other`.
-    pub fn add(self, other: Interval) -> Interval {
-        Interval {
-            lo: down(self.lo + other.lo),
-            hi: up(self.hi + other.hi),
-        }
-    }
-
-    /// `self - other`.
-    pub fn sub(self, other: Interval) -> Interval {
-        Interval {
-            lo: down(self.lo - other.hi),
-            hi: up(self.hi - other.lo),
-        }
-    }
-
-    /// `-self`.
-    pub fn neg(self) -> Interval {
-        Interval {
-            lo: -self.hi,
-            hi: -self.lo,
-        }
-    }
-
-    /// `self * other`.
-    pub fn mul(self, other: Interval) -> Interval {
-        if (self.lo == 0.0 && self.hi == 0.0) || (other.lo == 0.0 && other.hi == 0.0) {
-            return Interval::point(0.0);
-        }
-        let p = [
-            self.lo * other.lo,
-            self.lo * other.hi,
-            self.hi * other.lo,
-            self.hi * other.hi,
-        ];
-        if p.iter().any(|x| x.is_nan()) {
-            return Interval::ENTIRE;
-        }
-        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Interval {
-            lo: down(lo),
-            hi: up(hi),
-        }
-    }
-
-    /// `self / other`; the whole line if `other` contains zero.
-    pub fn div(self, other: Interval) -> Interval {
-        if other.lo <= 0.0 && other.hi >= 0.0 {
-            return Interval::ENTIRE;
-        }
-        let p = [
-            self.lo / other.lo,
-            self.lo / other.hi,
-            self.hi / other.lo,
-            self.hi / other.hi,
-        ];
-        if p.iter().any(|x| x.is_nan()) {
-            return Interval::ENTIRE;
-        }
-        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Interval {
-            lo: down(lo),
-            hi: up(hi),
-        }
-    }
-
     /// Square root of the non-negative part of the interval.
     pub fn sqrt(self) -> Interval {
         let lo = if self.lo <= 0.0 {
@@ -202,6 +134,89 @@ impl Interval {
     }
 }
 
+impl std::ops::Add for Interval {
+    type Output = Interval;
+
+    fn add(self, other: Interval) -> Interval {
+        Interval {
+            lo: down(self.lo + other.lo),
+            hi: up(self.hi + other.hi),
+        }
+    }
+}
+
+impl std::ops::Sub for Interval {
+    type Output = Interval;
+
+    fn sub(self, other: Interval) -> Interval {
+        Interval {
+            lo: down(self.lo - other.hi),
+            hi: up(self.hi - other.lo),
+        }
+    }
+}
+
+impl std::ops::Mul for Interval {
+    type Output = Interval;
+
+    fn mul(self, other: Interval) -> Interval {
+        if (self.lo == 0.0 && self.hi == 0.0) || (other.lo == 0.0 && other.hi == 0.0) {
+            return Interval::point(0.0);
+        }
+        let p = [
+            self.lo * other.lo,
+            self.lo * other.hi,
+            self.hi * other.lo,
+            self.hi * other.hi,
+        ];
+        if p.iter().any(|x| x.is_nan()) {
+            return Interval::ENTIRE;
+        }
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval {
+            lo: down(lo),
+            hi: up(hi),
+        }
+    }
+}
+
+impl std::ops::Div for Interval {
+    type Output = Interval;
+
+    fn div(self, other: Interval) -> Interval {
+        if other.lo <= 0.0 && other.hi >= 0.0 {
+            return Interval::ENTIRE;
+        }
+        let p = [
+            self.lo / other.lo,
+            self.lo / other.hi,
+            self.hi / other.lo,
+            self.hi / other.hi,
+        ];
+        if p.iter().any(|x| x.is_nan()) {
+            return Interval::ENTIRE;
+        }
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval {
+            lo: down(lo),
+            hi: up(hi),
+        }
+    }
+}
+
+impl std::ops::Neg for Interval {
+    type Output = Interval;
+
+    fn neg(self) -> Interval {
+        Interval {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -225,12 +240,12 @@ mod tests {
     fn outward() {
         let a = Interval::point(0.1);
         let b = Interval::point(0.2);
-        let s = a.add(b);
+        let s = a + b;
         assert!(s.lo < 0.30000000000000004 && s.hi >= 0.30000000000000004);
-        let q = Interval::point(1.0).div(Interval::point(3.0));
+        let q = Interval::point(1.0) / Interval::point(3.0);
         assert!(q.lo < 1.0 / 3.0 && q.hi > 1.0 / 3.0);
         assert_eq!(
-            Interval::point(1.0).div(Interval { lo: -1.0, hi: 1.0 }),
+            Interval::point(1.0) / Interval { lo: -1.0, hi: 1.0 },
             Interval::ENTIRE
         );
     }

@@ -72,7 +72,7 @@ impl Poly {
     /// An enclosure of the values on the interval `t`.
     pub fn eval_interval(&self, t: Interval) -> Interval {
         // Horner: c0 + t(c1 + t c2)
-        self.iv[0].add(t.mul(self.iv[1].add(t.mul(self.iv[2]))))
+        self.iv[0] + t * (self.iv[1] + t * self.iv[2])
     }
 
     /// The exact value at a rational time.

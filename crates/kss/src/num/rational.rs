@@ -177,7 +177,7 @@ impl Rational {
         let n = Interval::of_int(&self.num);
         let d = Interval::of_int(&self.den);
         if n.is_finite() && d.is_finite() && d.lo > 0.0 {
-            let q = n.div(d);
+            let q = n / d;
             if q.is_finite() && (q.lo.abs() > f64::MIN_POSITIVE || q.lo == 0.0 && q.hi == 0.0) {
                 return q;
             }
