@@ -229,6 +229,8 @@ fn drive(
     let mut collisions = 0u64;
     let mut changes = 0u64;
     let mut now = Time::zero();
+    let mut instant: Option<Time> = None;
+    let mut reported_now: std::collections::HashSet<(BodyId, BodyId)> = Default::default();
     let end = match stop_at {
         Some(t) if t < world.until() => t.clone(),
         _ => world.until().clone(),
@@ -261,7 +263,17 @@ fn drive(
                 (x.0.as_bytes(), x.1.as_bytes()).cmp(&(y.0.as_bytes(), y.1.as_bytes()))
             });
             let tf = t.to_f64();
+            if instant.as_ref() != Some(&t) {
+                instant = Some(t.clone());
+                reported_now.clear();
+            }
             for (ia, ib, a, b) in &named {
+                // In bounce mode a pair can need a second impulse at the same
+                // instant (see `World::bounce`): it is one collision, reported once.
+                if !reported_now.insert((*a, *b)) {
+                    continue;
+                }
+                collisions += 1;
                 on_event(&CollisionEvent {
                     time: t.clone(),
                     a: ia.to_string(),
@@ -269,7 +281,6 @@ fn drive(
                     point: world.contact_point(*a, *b, tf),
                 });
             }
-            collisions += named.len() as u64;
             let ordered: Vec<(BodyId, BodyId)> = named.iter().map(|x| (x.2, x.3)).collect();
             now = t;
             match world.mode() {

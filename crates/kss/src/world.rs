@@ -91,6 +91,14 @@ struct Change {
     anchor: bool,
 }
 
+/// Where two touching bodies touch.
+struct ContactGeometry {
+    /// The contract's normal, from `a` to `b`.
+    normal: Point,
+    /// Normals (from `a` to `b`) of the edges of `M` active at the contact.
+    edge_normals: Vec<Point>,
+}
+
 /// Ids of bodies whose trajectory changed, for the structure to update.
 pub type Changed = Vec<BodyId>;
 
@@ -103,6 +111,9 @@ pub struct World {
     until_f64: f64,
     changes: BTreeMap<(Time, u64), Change>,
     seq: u64,
+    /// The instant of the last bounce and how often each pair was resolved then.
+    bounce_instant: Option<Rational>,
+    bounce_rounds: BTreeMap<(BodyId, BodyId), u32>,
 }
 
 /// A collision found by a structure: bodies `a` and `b` touch at `time`.
@@ -239,6 +250,8 @@ impl World {
             until_f64,
             changes,
             seq,
+            bounce_instant: None,
+            bounce_rounds: BTreeMap::new(),
         };
         if let Some((a, b)) = world.first_overlap_at_zero() {
             return Err(ScenarioError::Overlap {
@@ -434,45 +447,96 @@ impl World {
     /// Resolve the collisions of one instant in `bounce` mode: elastic
     /// impulses pair by pair in `(a, b)` id order, each with the velocities
     /// left by the previous one. Returns the bodies whose trajectory changed.
+    ///
+    /// The contract's normal (touched edge, common line, or centroid
+    /// direction for a vertex–vertex contact) is used the first time a pair
+    /// is resolved at an instant. A centroid-direction impulse can leave a
+    /// vertex–vertex pair still moving into each other (or rounding can leave
+    /// a tiny approach); the structure then reports the pair again at the
+    /// same instant, and this second and any later round uses the normal of
+    /// one of the two edges at the contact (the one the pair approaches
+    /// least), with a restitution slightly above 1 that grows with each
+    /// round, so the pair always separates or slides and no overlap occurs.
     pub fn bounce(&mut self, t: &Rational, pairs: &[(BodyId, BodyId)]) -> Changed {
+        if self.bounce_instant.as_ref() != Some(t) {
+            self.bounce_instant = Some(t.clone());
+            self.bounce_rounds.clear();
+        }
         let mut new_v: BTreeMap<BodyId, [f64; 2]> = BTreeMap::new();
         let mut away: BTreeMap<BodyId, [Rational; 2]> = BTreeMap::new();
         for &(a, b) in pairs {
+            let key = (a.min(b), a.max(b));
+            let round = *self
+                .bounce_rounds
+                .entry(key)
+                .and_modify(|r| *r += 1)
+                .or_insert(0);
             let va = self.current_velocity(a, &new_v);
             let vb = self.current_velocity(b, &new_v);
-            let Some(n) = self.contact_normal(a, b, t) else {
+            let Some(contact) = self.contact(a, b, t) else {
                 continue;
             };
-            // approaching iff (v_b − v_a) · n < 0, decided exactly
             let rel = vb.sub(&va);
+            let n = if round == 0 {
+                contact.normal.clone()
+            } else {
+                // the active edge normal (from a to b) the pair approaches least
+                let mut best: Option<(f64, &Point)> = None;
+                for m in &contact.edge_normals {
+                    let mf = m.to_f64();
+                    let rf = rel.to_f64();
+                    let score = (mf[0] * rf[0] + mf[1] * rf[1]) / mf[0].hypot(mf[1]);
+                    if best.is_none_or(|(s, _)| score > s) {
+                        best = Some((score, m));
+                    }
+                }
+                best.expect("a contact has an active edge").1.clone()
+            };
+            // approaching iff (v_b − v_a) · n < 0, decided exactly
             if rel.dot(&n).sign() != Sign::Negative {
                 continue;
             }
+            let restitution = if round == 0 {
+                1.0
+            } else {
+                1.0 + 2f64.powi((round as i32).min(60) - 30)
+            };
             let (ba, bb) = (self.body(a), self.body(b));
             let inv_a = if ba.fixed { 0.0 } else { 1.0 / ba.area };
             let inv_b = if bb.fixed { 0.0 } else { 1.0 / bb.area };
             let nf = n.to_f64();
-            let len = (nf[0] * nf[0] + nf[1] * nf[1]).sqrt();
+            let len = nf[0].hypot(nf[1]);
             let nh = [nf[0] / len, nf[1] / len];
             let vaf = va.to_f64();
             let vbf = vb.to_f64();
             let u = (vbf[0] - vaf[0]) * nh[0] + (vbf[1] - vaf[1]) * nh[1];
-            let j = -2.0 * u / (inv_a + inv_b);
-            if !ba.fixed {
-                new_v.insert(a, [vaf[0] - j * inv_a * nh[0], vaf[1] - j * inv_a * nh[1]]);
+            let j = -(1.0 + restitution) * u / (inv_a + inv_b);
+            let mut push = |id: BodyId, v: [f64; 2], sign: f64| {
+                new_v.insert(id, v);
                 let e = away
-                    .entry(a)
+                    .entry(id)
                     .or_insert_with(|| [Rational::zero(), Rational::zero()]);
-                e[0] = e[0].sub(&n.x);
-                e[1] = e[1].sub(&n.y);
+                if sign > 0.0 {
+                    e[0] = e[0].add(&n.x);
+                    e[1] = e[1].add(&n.y);
+                } else {
+                    e[0] = e[0].sub(&n.x);
+                    e[1] = e[1].sub(&n.y);
+                }
+            };
+            if !ba.fixed {
+                push(
+                    a,
+                    [vaf[0] - j * inv_a * nh[0], vaf[1] - j * inv_a * nh[1]],
+                    -1.0,
+                );
             }
             if !bb.fixed {
-                new_v.insert(b, [vbf[0] + j * inv_b * nh[0], vbf[1] + j * inv_b * nh[1]]);
-                let e = away
-                    .entry(b)
-                    .or_insert_with(|| [Rational::zero(), Rational::zero()]);
-                e[0] = e[0].add(&n.x);
-                e[1] = e[1].add(&n.y);
+                push(
+                    b,
+                    [vbf[0] + j * inv_b * nh[0], vbf[1] + j * inv_b * nh[1]],
+                    1.0,
+                );
             }
         }
         let mut changed = Vec::new();
@@ -497,6 +561,10 @@ impl World {
     /// the common line's normal for flush edges, the centroid direction for a
     /// vertex–vertex contact. `None` if they do not touch.
     pub fn contact_normal(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<Point> {
+        self.contact(a, b, t).map(|c| c.normal)
+    }
+
+    fn contact(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
         let (ba, bb) = (self.body(a), self.body(b));
         // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A)
         let d = ba.traj.position_at(t).sub(&bb.traj.position_at(t));
@@ -519,21 +587,29 @@ impl World {
         if outside || active.is_empty() {
             return None;
         }
+        // M's outward normals point from B to A: negate for a → b.
+        let edge_normals: Vec<Point> = active
+            .iter()
+            .map(|n| Point {
+                x: Rational::from_int(-n.0.clone()),
+                y: Rational::from_int(-n.1.clone()),
+            })
+            .collect();
         let first = &active[0];
         let all_parallel = active
             .iter()
             .all(|n| (&n.0 * &first.1 - &n.1 * &first.0).is_zero());
-        if all_parallel {
-            // M's outward normal points from B to A
-            Some(Point {
-                x: Rational::from_int(-first.0.clone()),
-                y: Rational::from_int(-first.1.clone()),
-            })
+        let normal = if all_parallel {
+            edge_normals[0].clone()
         } else {
             let ca = ba.traj.position_at(t).add(&ba.centroid);
             let cb = bb.traj.position_at(t).add(&bb.centroid);
-            Some(cb.sub(&ca))
-        }
+            cb.sub(&ca)
+        };
+        Some(ContactGeometry {
+            normal,
+            edge_normals,
+        })
     }
 
     /// A contact point of touching bodies at time `t`, for display.
