@@ -137,6 +137,7 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "certificates_max": stats.certificates_max,
         "certificates_final": stats.certificates_final,
         "collisions": stats.collisions,
+        "max_number_bits": stats.max_number_bits,
         "wall_seconds": wall_seconds,
     });
     let mut s = serde_json::to_string_pretty(&v).expect("stats serialize");

@@ -76,6 +76,10 @@ pub struct RunStats {
     pub certificates_final: u64,
     /// Collisions reported.
     pub collisions: u64,
+    /// The largest bit length of an exact number (numerator or denominator
+    /// of a position or velocity) on any body's path during the run. It
+    /// stays bounded however long a `bounce` run is (see [`crate::world`]).
+    pub max_number_bits: u64,
 }
 
 /// Why a run could not complete.
@@ -230,6 +234,10 @@ fn drive(
     let mut changes = 0u64;
     let mut now = Time::zero();
     let mut instant: Option<Time> = None;
+    let mut max_bits = (0..world.len() as u32)
+        .map(|i| world.number_bits(BodyId(i)))
+        .max()
+        .unwrap_or(0);
     let mut reported_now: std::collections::HashSet<(BodyId, BodyId)> = Default::default();
     let end = match stop_at {
         Some(t) if t < world.until() => t.clone(),
@@ -292,6 +300,9 @@ fn drive(
                 }
                 CollisionMode::Bounce => {
                     let changed = world.bounce(&tr, &ordered);
+                    for &id in &changed {
+                        max_bits = max_bits.max(world.number_bits(id));
+                    }
                     engine.update(world, &now, &changed, &ordered)?;
                 }
             }
@@ -300,6 +311,9 @@ fn drive(
                 Some(t) if *t <= end && (*t < end || stop_at.is_none()) => {
                     let t = t.clone();
                     let changed = world.apply_changes_at(&t);
+                    for &id in &changed {
+                        max_bits = max_bits.max(world.number_bits(id));
+                    }
                     changes += 1;
                     now = t;
                     engine.update(world, &now, &changed, &[])?;
@@ -320,6 +334,7 @@ fn drive(
     stats.certificates_final = final_certs;
     stats.certificates_max = max_certs;
     stats.collisions = collisions;
+    stats.max_number_bits = max_bits;
     Ok(stats)
 }
 

@@ -400,6 +400,23 @@ impl World {
         changed
     }
 
+    /// The largest bit length of a numerator or denominator of body `id`'s
+    /// current path (origin and velocity).
+    pub fn number_bits(&self, id: BodyId) -> u64 {
+        use dashu_base::BitTest;
+        let t = &self.body(id).traj;
+        [
+            &t.origin().x,
+            &t.origin().y,
+            &t.velocity().x,
+            &t.velocity().y,
+        ]
+        .iter()
+        .flat_map(|r| [r.numer().bit_len(), r.denom().bit_len()])
+        .max()
+        .unwrap_or(0) as u64
+    }
+
     /// Remove bodies (`remove` mode); fixed bodies stay.
     pub fn remove(&mut self, ids: &[BodyId]) -> Changed {
         let mut removed = Vec::new();

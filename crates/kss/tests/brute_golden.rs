@@ -262,3 +262,38 @@ fn change_at_collision_instant_takes_effect_after() {
     });
     assert_eq!(events(&s), vec![ev(1, 1, "a", "b")]);
 }
+
+/// In bounce mode the bridges keep every exact number's size bounded: the
+/// largest bit length seen over a run of thousands of collisions is the same
+/// as over its first few hundred.
+#[test]
+fn bounce_numbers_stay_bounded() {
+    let stats = |until: f64| {
+        let s = kss::gen::gas(&kss::gen::GasParams {
+            k: 8,
+            min_n: 6,
+            max_n: 6,
+            walls: true,
+            mode: CollisionMode::Bounce,
+            until,
+            seed: 3,
+            ..Default::default()
+        });
+        let opts = RunOptions {
+            structure: StructureKind::Brute,
+            ..Default::default()
+        };
+        run(&s, &opts, &mut |_| {}).unwrap()
+    };
+    let short = stats(20.0);
+    let long = stats(400.0);
+    assert!(short.collisions > 100, "{}", short.collisions);
+    assert!(long.collisions > 3000, "{}", long.collisions);
+    assert!(long.max_number_bits <= 256, "{}", long.max_number_bits);
+    assert!(
+        long.max_number_bits <= short.max_number_bits + 16,
+        "grew from {} to {} bits",
+        short.max_number_bits,
+        long.max_number_bits
+    );
+}
