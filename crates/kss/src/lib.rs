@@ -1,6 +1,74 @@
 //! kss: exact kinetic collision detection for moving convex polygons.
 //!
-//! (Crate documentation is being written; see README.md.)
+//! Given convex polygons that translate along piecewise-linear flight plans,
+//! kss reports every collision exactly and in time order, without stepping
+//! time. It implements (in progress) the *separation-sensitive kinetic
+//! separation structure* of Kirkpatrick and Speckmann, and ships the exact
+//! all-pairs reference it is tested against.
+//!
+//! # Contents
+//!
+//! - [`run`]: validate a [`Scenario`] and report its collisions ([`CollisionEvent`]).
+//! - [`scenario`]: the input data and its errors; [`gen`]: scenario generators.
+//! - [`num`]: exact numbers and the exact, filtered order of event [`num::Time`]s.
+//! - [`geom`], [`motion`]: exact predicates and certificate functions.
+//! - [`sim`]: the event queue; [`world`]: bodies, flight plans, collision policy.
+//! - [`brute`]: the all-pairs reference; [`render`]: SVG pictures.
+//!
+//! # Should I use this?
+//!
+//! Use kss when you need collision *times* you can trust exactly (planning,
+//! discrete-event simulation, testing other collision code) for convex
+//! polygons on known linear motions. Do not use it for rotating bodies or
+//! for interactive physics where approximate contacts are fine.
+//!
+//! # Example
+//!
+//! ```
+//! use kss::{run, CollisionMode, PolygonSpec, RunOptions, Scenario, StructureKind};
+//!
+//! let square = |id: &str, x: f64, vx: f64| PolygonSpec {
+//!     id: id.into(),
+//!     vertices: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+//!     position: [x, 0.0],
+//!     velocity: [vx, 0.0],
+//!     fixed: false,
+//! };
+//! let scenario = Scenario {
+//!     until: 10.0,
+//!     on_collision: CollisionMode::Stop,
+//!     polygons: vec![square("a", 0.0, 2.0), square("b", 2.0, -1.0)],
+//!     flight_plan_changes: vec![],
+//! };
+//! let options = RunOptions { structure: StructureKind::Brute, ..Default::default() };
+//! let mut events = Vec::new();
+//! run(&scenario, &options, &mut |e| events.push(e.clone()))?;
+//! // the gap of 1 closes at speed 3: contact at exactly t = 1/3
+//! assert_eq!(events.len(), 1);
+//! assert_eq!(events[0].time.as_rational().unwrap().to_string(), "1/3");
+//! # Ok::<(), kss::RunError>(())
+//! ```
+//!
+//! # Glossary
+//!
+//! - **trajectory / flight plan**: a body's piecewise-linear path; its velocity
+//!   changes at given times, its position is continuous.
+//! - **certificate**: an elementary geometric test (the sign of an orientation
+//!   of three moving points) that holds between events.
+//! - **certificate function**: the certificate as a polynomial in time, of
+//!   degree at most two, positive while the certificate holds.
+//! - **event**: the failure time of a certificate (a root of its function), or
+//!   a flight-plan change; processed in exact time order.
+//! - **audit**: a check of every invariant of a structure, exactly, at a
+//!   rational instant strictly between two event times.
+//! - **partition triangle**: a free-space triangle whose corners lie on three
+//!   different objects (the point at infinity counts as one); there are 2k − 2.
+//! - **corridor**: a region of free space between two partition triangles,
+//!   bounded by two end-edges and two polygon chains; there are 3k − 3.
+//! - **pseudo-triangle**: a face with exactly three convex corners joined by
+//!   concave chains; each corridor holds at most two.
+//! - **approximation vertex**: a vertex of a polygon's coarse outer
+//!   approximation (intersection of two supporting lines) in the hierarchy.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
