@@ -83,6 +83,7 @@ pub mod rng;
 pub mod runner;
 pub mod scenario;
 pub mod sim;
+pub mod structure;
 pub mod world;
 
 pub use runner::{run, CollisionEvent, RunError, RunOptions, RunStats, StructureKind};

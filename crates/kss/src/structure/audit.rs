@@ -1,0 +1,122 @@
+//! Exact checks of the structure's invariants (the audit).
+
+use super::{Att, Kss, Obj};
+use crate::world::World;
+
+impl Kss {
+    /// Check the combinatorial invariants: `2k − 2` partition triangles and
+    /// `3k − 3` corridors for `k` alive bodies, corners of each partition
+    /// triangle on three objects, each corridor linked from both its ends,
+    /// chains that run from one end to the other, and chains that cover
+    /// every polygon edge exactly once.
+    pub fn check_topology(&self, world: &World) -> Result<(), String> {
+        let k = world.bodies().iter().filter(|b| b.alive).count();
+        if k < 2 {
+            return if self.tris.is_empty() && self.corrs.is_empty() {
+                Ok(())
+            } else {
+                Err("structure for fewer than two bodies".into())
+            };
+        }
+        if self.tris.len() != 2 * k - 2 || self.corrs.len() != 3 * k - 3 {
+            return Err(format!(
+                "{} partition triangles and {} corridors for k = {k} (want {} and {})",
+                self.tris.len(),
+                self.corrs.len(),
+                2 * k - 2,
+                3 * k - 3
+            ));
+        }
+        for (ti, t) in self.tris.iter().enumerate() {
+            let [x, y, z] = t.c;
+            if x.obj == y.obj || y.obj == z.obj || x.obj == z.obj {
+                return Err(format!(
+                    "partition triangle {ti} has two corners on one object"
+                ));
+            }
+            for i in 0..3 {
+                let c = &self.corrs[t.corr[i].0 as usize];
+                let here = (super::TriId(ti as u32), i as u8);
+                if c.s != here && c.t != here {
+                    return Err(format!(
+                        "corridor {:?} does not link back to triangle {ti}",
+                        t.corr[i]
+                    ));
+                }
+            }
+        }
+        let mut covered: Vec<Vec<u8>> = world
+            .bodies()
+            .iter()
+            .map(|b| vec![0u8; b.shape.len()])
+            .collect();
+        for (ki, c) in self.corrs.iter().enumerate() {
+            let (a_s, b_s, a_t, b_t) = self.ends(super::CorrId(ki as u32));
+            if a_s.obj != c.a || a_t.obj != c.a || b_s.obj != c.b || b_t.obj != c.b {
+                return Err(format!("corridor {ki}: ends on the wrong objects"));
+            }
+            if c.a == Obj::Omega {
+                return Err(format!("corridor {ki}: A is ω"));
+            }
+            walk_chain(world, a_s, a_t, c.len_a, &mut covered)
+                .map_err(|e| format!("corridor {ki}, A-chain: {e}"))?;
+            if c.b == Obj::Omega {
+                if c.len_b != 0 {
+                    return Err(format!("corridor {ki}: a chain on ω"));
+                }
+            } else {
+                walk_chain(world, b_t, b_s, c.len_b, &mut covered)
+                    .map_err(|e| format!("corridor {ki}, B-chain: {e}"))?;
+            }
+            if let Some((i, j)) = c.mid {
+                if i > c.len_a || j > c.len_b {
+                    return Err(format!("corridor {ki}: middle bridge off its chains"));
+                }
+            }
+        }
+        for (bi, cov) in covered.iter().enumerate() {
+            if !world.bodies()[bi].alive {
+                continue;
+            }
+            if let Some(e) = cov.iter().position(|&c| c != 1) {
+                return Err(format!(
+                    "edge {e} of body {} is in {} corridor chains",
+                    world.bodies()[bi].id,
+                    cov[e]
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Walk `len` edges clockwise from `from`; it must end at `to`. Marks the
+/// edges covered (edge `i` joins vertices `i` and `i + 1`).
+fn walk_chain(
+    world: &World,
+    from: Att,
+    to: Att,
+    len: u32,
+    covered: &mut [Vec<u8>],
+) -> Result<(), String> {
+    let Obj::Body(b) = from.obj else {
+        return Err("chain on ω".into());
+    };
+    let n = world.body(b).shape.len() as u32;
+    if len > n {
+        return Err(format!("{len} edges on a {n}-gon"));
+    }
+    let mut v = from.v;
+    for _ in 0..len {
+        let prev = (v + n - 1) % n;
+        covered[b.index()][prev as usize] += 1;
+        v = prev;
+    }
+    if v != to.v {
+        return Err(format!(
+            "walked {len} edges from {} to {}, expected {}",
+            from.v, v, to.v
+        ));
+    }
+    Ok(())
+}

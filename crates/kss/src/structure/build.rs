@@ -1,0 +1,226 @@
+//! Construction of the structure at one instant from a constrained
+//! triangulation of the free space (spade), checked with exact predicates.
+//!
+//! spade triangulates the vertices rounded to doubles; every triangle we keep
+//! is then re-checked exactly (positive orientation with the exact
+//! coordinates). If rounding made the triangulation invalid for the exact
+//! coordinates (vertices closer than a few units in the last place), the
+//! construction reports an error rather than building a wrong structure.
+
+use std::collections::HashMap;
+
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
+use crate::geom::{orient, Point};
+use crate::num::{Rational, Sign};
+use crate::world::{BodyId, World};
+
+/// Why the structure could not be built.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum BuildError {
+    /// The rounded triangulation is not valid for the exact coordinates.
+    #[error("the free-space triangulation is not valid with exact coordinates: {0}")]
+    Rounding(String),
+}
+
+/// The exact position of an attachment point at time `t` (`None` for `ω`).
+pub fn position(world: &World, a: Att, t: &Rational) -> Option<Point> {
+    match a.obj {
+        Obj::Omega => None,
+        Obj::Body(b) => Some(world.body(b).vertex_at(a.v as usize, t)),
+    }
+}
+
+/// Build the structure for the alive bodies of `world` at time `t`.
+pub fn build(world: &World, t: &Rational) -> Result<Kss, BuildError> {
+    // Global vertex numbering.
+    let mut atts: Vec<Att> = Vec::new();
+    let mut exact: Vec<Point> = Vec::new();
+    let mut edges: Vec<[usize; 2]> = Vec::new();
+    for (i, body) in world.bodies().iter().enumerate() {
+        if !body.alive {
+            continue;
+        }
+        let base = atts.len();
+        let n = body.shape.len();
+        for v in 0..n {
+            atts.push(Att::vertex(BodyId(i as u32), v as u32));
+            exact.push(body.vertex_at(v, t));
+            edges.push([base + v, base + (v + 1) % n]);
+        }
+    }
+    let alive = world.bodies().iter().filter(|b| b.alive).count();
+    if alive < 2 {
+        return Ok(Kss::default());
+    }
+    let pts: Vec<Point2<f64>> = exact
+        .iter()
+        .map(|p| {
+            let f = p.to_f64();
+            Point2::new(f[0], f[1])
+        })
+        .collect();
+    let mut conflict = false;
+    let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(pts, edges, |_| conflict = true)
+            .map_err(|e| BuildError::Rounding(format!("{e:?}")))?;
+    if conflict || cdt.num_vertices() != atts.len() {
+        return Err(BuildError::Rounding(
+            "vertices or edges coincide after rounding to doubles".into(),
+        ));
+    }
+    // All finite triangles, oriented CCW exactly.
+    let mut tris: Vec<[usize; 3]> = Vec::with_capacity(cdt.num_inner_faces());
+    let mut directed: HashMap<(usize, usize), ()> = HashMap::new();
+    for f in cdt.inner_faces() {
+        let [u, v, w] = f.vertices().map(|h| h.fix().index());
+        let tri = match orient(&exact[u], &exact[v], &exact[w]) {
+            Sign::Positive => [u, v, w],
+            Sign::Negative => [u, w, v],
+            Sign::Zero => return Err(BuildError::Rounding("a flat triangle".into())),
+        };
+        for i in 0..3 {
+            directed.insert((tri[i], tri[(i + 1) % 3]), ());
+        }
+        tris.push(tri);
+    }
+    // Convex hull edges (CCW): directed edges whose reverse is in no triangle.
+    let mut hull: Vec<(usize, usize)> = directed
+        .keys()
+        .filter(|&&(u, v)| !directed.contains_key(&(v, u)))
+        .copied()
+        .collect();
+    hull.sort_unstable();
+    let same = |x: usize, y: usize| atts[x].obj == atts[y].obj;
+    // Free-space triangles as attachment triples (ω for the infinite ones).
+    let mut faces: Vec<[Att; 3]> = Vec::new();
+    for tri in &tris {
+        let [u, v, w] = *tri;
+        if same(u, v) && same(v, w) {
+            continue; // inside a polygon
+        }
+        faces.push([atts[u], atts[v], atts[w]]);
+    }
+    for &(u, v) in &hull {
+        faces.push([atts[v], atts[u], Att::OMEGA]);
+    }
+    // Check that two corners on one body are adjacent on it (no chords).
+    for f in &faces {
+        for i in 0..3 {
+            let (x, y) = (f[i], f[(i + 1) % 3]);
+            if let (Obj::Body(b), true) = (x.obj, x.obj == y.obj) {
+                let n = world.body(b).shape.len() as u32;
+                if (x.v + 1) % n != y.v && (y.v + 1) % n != x.v {
+                    return Err(BuildError::Rounding(format!(
+                        "a triangle side cuts through body {}",
+                        world.body(b).id
+                    )));
+                }
+            }
+        }
+    }
+    // Adjacency: directed side -> (face, side index).
+    let mut side_of: HashMap<(Att, Att), (usize, usize)> = HashMap::with_capacity(3 * faces.len());
+    for (fi, f) in faces.iter().enumerate() {
+        for i in 0..3 {
+            side_of.insert((f[i], f[(i + 1) % 3]), (fi, i));
+        }
+    }
+    let is_partition =
+        |f: &[Att; 3]| f[0].obj != f[1].obj && f[1].obj != f[2].obj && f[0].obj != f[2].obj;
+    let mut tri_id: HashMap<usize, TriId> = HashMap::new();
+    let mut kss = Kss::default();
+    for (fi, f) in faces.iter().enumerate() {
+        if is_partition(f) {
+            tri_id.insert(fi, TriId(kss.tris.len() as u32));
+            kss.tris.push(PartitionTriangle {
+                c: *f,
+                corr: [CorrId(u32::MAX); 3],
+            });
+        }
+    }
+    // Walk each corridor from a partition-triangle side whose first corner is finite.
+    for ti in 0..kss.tris.len() {
+        for i in 0..3 {
+            let tri = &kss.tris[ti];
+            if tri.corr[i] != CorrId(u32::MAX) {
+                continue;
+            }
+            let (p, q) = (tri.c[i], tri.c[(i + 1) % 3]);
+            if p.is_omega() {
+                continue;
+            }
+            let (mut len_a, mut len_b) = (0u32, 0u32);
+            let (mut x, mut y) = (p, q); // the side we cross, in the current face's order
+            let end = loop {
+                let &(fj, sj) = side_of
+                    .get(&(y, x))
+                    .ok_or_else(|| BuildError::Rounding("a side without neighbour".into()))?;
+                let g = &faces[fj];
+                if is_partition(g) {
+                    break (tri_id[&fj], sj as u8);
+                }
+                // a two-object face: one polygon edge, and the other bridge to exit by
+                let (s1, s2) = ((sj + 1) % 3, (sj + 2) % 3);
+                let side = |k: usize| (g[k], g[(k + 1) % 3]);
+                let (edge, exit) = if side(s1).0.obj == side(s1).1.obj {
+                    (s1, s2)
+                } else {
+                    (s2, s1)
+                };
+                if side(edge).0.obj == p.obj {
+                    len_a += 1;
+                } else {
+                    len_b += 1;
+                }
+                // exits are A-first: the next face holds the side as (y, x)
+                (x, y) = side(exit);
+            };
+            let k = CorrId(kss.corrs.len() as u32);
+            kss.corrs.push(Corridor {
+                a: p.obj,
+                b: q.obj,
+                s: (TriId(ti as u32), i as u8),
+                t: end,
+                len_a,
+                len_b,
+                mid: None,
+            });
+            kss.tris[ti].corr[i] = k;
+            kss.tris[end.0 .0 as usize].corr[end.1 as usize] = k;
+        }
+    }
+    if kss.tris.iter().any(|t| t.corr.contains(&CorrId(u32::MAX))) {
+        return Err(BuildError::Rounding(
+            "a partition-triangle side without corridor".into(),
+        ));
+    }
+    Ok(kss)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gen::{generate_small, Family};
+
+    #[test]
+    fn construction_topology_on_generated_scenes() {
+        let mut built = 0;
+        for family in Family::ALL {
+            for seed in 0..60 {
+                let s = generate_small(family, seed);
+                let world = World::new(&s, None).unwrap();
+                match build(&world, &Rational::zero()) {
+                    Ok(kss) => {
+                        kss.check_topology(&world)
+                            .unwrap_or_else(|e| panic!("{} seed {seed}: {e}", family.name()));
+                        built += 1;
+                    }
+                    Err(e) => panic!("{} seed {seed}: {e}", family.name()),
+                }
+            }
+        }
+        assert_eq!(built, 360);
+    }
+}

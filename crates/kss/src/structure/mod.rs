@@ -1,0 +1,134 @@
+//! The kinetic separation structure (KSS) for convex polygons, section 2 of
+//! Kirkpatrick & Speckmann, specialised to convex objects (see
+//! `ARCHITECTURE.md` for the conventions and where we depart from the note
+//! in `shared/design/algorithm.md`).
+//!
+//! The free space between the `k` polygons and the point at infinity `ω` is
+//! cut by `2k − 2` *partition triangles* (corners on three different objects)
+//! into `3k − 3` *corridors*; each corridor lies between two objects, is
+//! bounded by two end-edges (sides of partition triangles) and two convex
+//! chains, and is split by at most one *middle bridge* into at most two
+//! pseudo-triangles.
+//!
+//! Conventions (all orientations counter-clockwise, free space on the left):
+//!
+//! * a partition triangle's corners `c[0], c[1], c[2]` are in CCW order; its
+//!   side `i` is `(c[i], c[i+1])` and the corridor across it is `corr[i]`;
+//! * a corridor's end `s` is side `(p, q)` of its triangle `s.0`; then
+//!   `a = obj(p)` (never `ω`), `b = obj(q)`, `a_s = p`, `b_s = q`. Its end
+//!   `t` is side `(b_t, a_t)` of triangle `t.0`. The A-chain runs from `a_s`
+//!   clockwise around `A` (decreasing vertex index) over `len_a` edges to
+//!   `a_t`; the B-chain from `b_t` clockwise over `len_b` edges to `b_s`.
+//!   An empty corridor has `s` and `t` on the same edge and no chain edges.
+//! * the middle bridge, if any, joins `α = a_s − i` and `β = b_t − j`
+//!   (offsets along the chains); the face next to end `s` has the A-chain from
+//!   `a_s` to `α` and the B-chain from `β` to `b_s`.
+
+pub mod audit;
+pub mod build;
+
+use crate::world::BodyId;
+
+/// An object: a body, or the point at infinity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Obj {
+    /// A polygon of the world.
+    Body(BodyId),
+    /// The point at infinity.
+    Omega,
+}
+
+/// A point a bridge can end at: a vertex of a body, or `ω`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Att {
+    /// The object.
+    pub obj: Obj,
+    /// The vertex index (0 for `ω`).
+    pub v: u32,
+}
+
+impl Att {
+    /// The point at infinity.
+    pub const OMEGA: Att = Att {
+        obj: Obj::Omega,
+        v: 0,
+    };
+
+    /// Vertex `v` of body `b`.
+    pub fn vertex(b: BodyId, v: u32) -> Att {
+        Att {
+            obj: Obj::Body(b),
+            v,
+        }
+    }
+
+    /// Whether this is `ω`.
+    pub fn is_omega(self) -> bool {
+        self.obj == Obj::Omega
+    }
+}
+
+/// Index of a partition triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct TriId(pub u32);
+
+/// Index of a corridor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct CorrId(pub u32);
+
+/// A partition triangle: corners on three different objects, CCW.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PartitionTriangle {
+    /// The corners, counter-clockwise.
+    pub c: [Att; 3],
+    /// `corr[i]` is the corridor across side `(c[i], c[i+1])`.
+    pub corr: [CorrId; 3],
+}
+
+/// A corridor between two objects (module docs for the conventions).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Corridor {
+    /// Object of `a_s` and `a_t` (never `ω`).
+    pub a: Obj,
+    /// The other object.
+    pub b: Obj,
+    /// End `s`: a triangle and the index of its side `(a_s, b_s)`.
+    pub s: (TriId, u8),
+    /// End `t`: a triangle and the index of its side `(b_t, a_t)`.
+    pub t: (TriId, u8),
+    /// Edges on the A-chain.
+    pub len_a: u32,
+    /// Edges on the B-chain (0 when `b` is `ω`).
+    pub len_b: u32,
+    /// The middle bridge as offsets `(i, j)`: `α = a_s − i`, `β = b_t − j`.
+    pub mid: Option<(u32, u32)>,
+}
+
+/// The kinetic separation structure's combinatorial state.
+#[derive(Clone, Debug, Default)]
+pub struct Kss {
+    /// Partition triangles.
+    pub tris: Vec<PartitionTriangle>,
+    /// Corridors.
+    pub corrs: Vec<Corridor>,
+}
+
+impl Kss {
+    /// The corner of triangle `t` at index `i` (mod 3).
+    pub fn corner(&self, t: TriId, i: usize) -> Att {
+        self.tris[t.0 as usize].c[i % 3]
+    }
+
+    /// The end-edge endpoints `(a_s, b_s, a_t, b_t)` of a corridor.
+    pub fn ends(&self, k: CorrId) -> (Att, Att, Att, Att) {
+        let c = &self.corrs[k.0 as usize];
+        let (ts, is) = (c.s.0, c.s.1 as usize);
+        let (tt, it) = (c.t.0, c.t.1 as usize);
+        (
+            self.corner(ts, is),
+            self.corner(ts, is + 1),
+            self.corner(tt, it + 1),
+            self.corner(tt, it),
+        )
+    }
+}
