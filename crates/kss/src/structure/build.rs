@@ -212,8 +212,12 @@ mod tests {
                 let s = generate_small(family, seed);
                 let world = World::new(&s, None).unwrap();
                 match build(&world, &Rational::zero()) {
-                    Ok(kss) => {
+                    Ok(mut kss) => {
                         kss.check_topology(&world)
+                            .unwrap_or_else(|e| panic!("{} seed {seed}: {e}", family.name()));
+                        let t0 = crate::num::Time::zero();
+                        kss.place_middle_bridges(&world, &t0);
+                        kss.check_faces(&world, &t0)
                             .unwrap_or_else(|e| panic!("{} seed {seed}: {e}", family.name()));
                         built += 1;
                     }
@@ -222,5 +226,44 @@ mod tests {
             }
         }
         assert_eq!(built, 360);
+    }
+}
+
+#[cfg(test)]
+mod larger_tests {
+    use super::*;
+    use crate::gen::{flypast, gas, FlypastParams, GasParams};
+    use crate::num::Time;
+
+    fn check(s: &crate::Scenario) {
+        let world = World::new(s, None).unwrap();
+        let mut kss = build(&world, &Rational::zero()).unwrap();
+        kss.check_topology(&world).unwrap();
+        kss.place_middle_bridges(&world, &Time::zero());
+        kss.check_faces(&world, &Time::zero()).unwrap();
+    }
+
+    #[test]
+    fn gas_scenes_with_walls() {
+        for (k, n, seed) in [(50, 8, 1), (200, 6, 2), (20, 64, 3)] {
+            check(&gas(&GasParams {
+                k,
+                min_n: n,
+                max_n: n,
+                walls: true,
+                seed,
+                ..Default::default()
+            }));
+        }
+    }
+
+    #[test]
+    fn flypast_large_polygons() {
+        for n in [16, 1024, 1 << 14] {
+            check(&flypast(&FlypastParams {
+                n,
+                ..Default::default()
+            }));
+        }
     }
 }

@@ -1,0 +1,194 @@
+//! Corridor faces, junctions and the middle bridge.
+
+use super::{Att, CorrId, Kss, Obj};
+use crate::motion::orient_poly;
+use crate::num::{Sign, Time};
+use crate::world::World;
+
+/// Vertex `v − k` (clockwise by `k`) of the object of `a`.
+pub fn step_cw(world: &World, a: Att, k: u32) -> Att {
+    match a.obj {
+        Obj::Omega => a,
+        Obj::Body(b) => {
+            let n = world.body(b).shape.len() as u32;
+            Att {
+                obj: a.obj,
+                v: (a.v + n - (k % n)) % n,
+            }
+        }
+    }
+}
+
+/// The sign of `orient(u, v, w)` just after time `t` (all three finite):
+/// positive for a left turn.
+pub fn turn_after(world: &World, u: Att, v: Att, w: Att, t: &Time) -> Sign {
+    let lp = |a: Att| match a.obj {
+        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Omega => unreachable!("turn_after on ω"),
+    };
+    orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t)
+}
+
+impl Kss {
+    /// The boundary of corridor `k`'s region, counter-clockwise, as
+    /// attachment points: `b_s, a_s, (A-chain), a_t, b_t, (B-chain)`, ending
+    /// before `b_s` again. Consecutive equal points are not repeated.
+    pub fn corridor_boundary(&self, world: &World, k: CorrId) -> Vec<Att> {
+        let c = &self.corrs[k.0 as usize];
+        let (a_s, b_s, _, b_t) = self.ends(k);
+        let mut out = vec![b_s];
+        for i in 0..=c.len_a {
+            out.push(step_cw(world, a_s, i));
+        }
+        if c.b != Obj::Omega {
+            for j in 0..c.len_b {
+                out.push(step_cw(world, b_t, j));
+            }
+        }
+        out
+    }
+
+    /// Compute middle bridges at time `t` for every corridor whose region
+    /// has four convex corners (both chains non-empty and the four end-edge
+    /// endpoints convex), by walking the geodesic diagonal `a_s ⇝ b_t`.
+    pub fn place_middle_bridges(&mut self, world: &World, t: &Time) {
+        for ki in 0..self.corrs.len() {
+            let k = CorrId(ki as u32);
+            let c = self.corrs[ki].clone();
+            if c.b == Obj::Omega || c.len_a == 0 || c.len_b == 0 {
+                self.corrs[ki].mid = None;
+                continue;
+            }
+            let (a_s, b_s, a_t, b_t) = self.ends(k);
+            let conv = |u, v, w| turn_after(world, u, v, w, t) == Sign::Positive;
+            let four = conv(b_s, a_s, step_cw(world, a_s, 1))
+                && conv(step_ccw(world, a_t), a_t, b_t)
+                && conv(a_t, b_t, step_cw(world, b_t, 1))
+                && conv(step_ccw(world, b_s), b_s, a_s);
+            if !four {
+                self.corrs[ki].mid = None;
+                continue;
+            }
+            // α advances from a_s towards a_t and β from b_t towards b_s until
+            // α is a convex corner of the face next to `t` (α − 1 left of
+            // β → α) and β one of the face next to `s` (β − 1 left of α → β):
+            // then α β is the straight part of the geodesic a_s ⇝ b_t.
+            let (mut i, mut j) = (0u32, 0u32);
+            loop {
+                let alpha = step_cw(world, a_s, i);
+                let beta = step_cw(world, b_t, j);
+                let mut moved = false;
+                if i < c.len_a
+                    && turn_after(world, beta, alpha, step_cw(world, alpha, 1), t) != Sign::Positive
+                {
+                    i += 1;
+                    moved = true;
+                }
+                if j < c.len_b
+                    && turn_after(world, alpha, beta, step_cw(world, beta, 1), t) != Sign::Positive
+                {
+                    j += 1;
+                    moved = true;
+                }
+                if !moved {
+                    break;
+                }
+            }
+            self.corrs[ki].mid = Some((i, j));
+        }
+    }
+}
+
+/// For a turn that is identically zero (the three points stay collinear:
+/// no relative motion across their line), whether `v` lies strictly between
+/// `u` and `w`, a straight angle, which never changes. `t` must be rational.
+pub fn straight_forever(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool {
+    let Some(t) = t.as_rational() else {
+        return false;
+    };
+    let pos = |a: Att| super::build::position(world, a, t).expect("finite");
+    let (pu, pv, pw) = (pos(u), pos(v), pos(w));
+    pu.sub(&pv).dot(&pw.sub(&pv)).sign() == Sign::Negative
+}
+
+/// Vertex `v + 1` (counter-clockwise neighbour) of the object of `a`.
+pub fn step_ccw(world: &World, a: Att) -> Att {
+    match a.obj {
+        Obj::Omega => a,
+        Obj::Body(b) => {
+            let n = world.body(b).shape.len() as u32;
+            Att {
+                obj: a.obj,
+                v: (a.v + 1) % n,
+            }
+        }
+    }
+}
+
+impl Kss {
+    /// The faces of corridor `k` (one, or two when it has a middle bridge),
+    /// each as its boundary cycle counter-clockwise.
+    pub fn corridor_faces(&self, world: &World, k: CorrId) -> Vec<Vec<Att>> {
+        let c = &self.corrs[k.0 as usize];
+        let (a_s, b_s, _a_t, b_t) = self.ends(k);
+        match c.mid {
+            None => vec![self.corridor_boundary(world, k)],
+            Some((i, j)) => {
+                let mut s_face = vec![b_s];
+                for x in 0..=i {
+                    s_face.push(step_cw(world, a_s, x));
+                }
+                for y in j..c.len_b {
+                    s_face.push(step_cw(world, b_t, y));
+                }
+                let mut t_face = Vec::new();
+                for x in i..=c.len_a {
+                    t_face.push(step_cw(world, a_s, x));
+                }
+                for y in 0..=j {
+                    t_face.push(step_cw(world, b_t, y));
+                }
+                vec![s_face, t_face]
+            }
+        }
+    }
+
+    /// Check that every face of every corridor between two bodies is a
+    /// pseudo-triangle just after time `t`: exactly three convex vertices,
+    /// every other vertex reflex.
+    pub fn check_faces(&self, world: &World, t: &Time) -> Result<(), String> {
+        for ki in 0..self.corrs.len() {
+            let k = CorrId(ki as u32);
+            if self.corrs[ki].b == Obj::Omega {
+                continue;
+            }
+            for (fi, face) in self.corridor_faces(world, k).iter().enumerate() {
+                let n = face.len();
+                if n < 3 {
+                    if n == 2 && self.corrs[ki].len_a == 0 && self.corrs[ki].len_b == 0 {
+                        continue; // an empty corridor
+                    }
+                    return Err(format!("corridor {ki} face {fi} has {n} vertices"));
+                }
+                let mut convex = 0;
+                for x in 0..n {
+                    let (u, v, w) = (face[(x + n - 1) % n], face[x], face[(x + 1) % n]);
+                    match turn_after(world, u, v, w, t) {
+                        Sign::Positive => convex += 1,
+                        Sign::Negative => {}
+                        Sign::Zero if straight_forever(world, u, v, w, t) => {}
+                        Sign::Zero => {
+                            return Err(format!("corridor {ki} face {fi}: zero angle at {v:?}"));
+                        }
+                    }
+                }
+                if convex != 3 {
+                    return Err(format!(
+                        "corridor {ki} face {fi} has {convex} convex vertices: {face:?}"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
