@@ -26,6 +26,7 @@
 
 pub mod audit;
 pub mod build;
+pub mod certs;
 pub mod faces;
 
 use crate::world::BodyId;
