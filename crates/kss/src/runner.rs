@@ -270,7 +270,6 @@ fn drive(
             named.sort_by(|x, y| {
                 (x.0.as_bytes(), x.1.as_bytes()).cmp(&(y.0.as_bytes(), y.1.as_bytes()))
             });
-            let tf = t.to_f64();
             if instant.as_ref() != Some(&t) {
                 instant = Some(t.clone());
                 reported_now.clear();
@@ -286,7 +285,7 @@ fn drive(
                     time: t.clone(),
                     a: ia.to_string(),
                     b: ib.to_string(),
-                    point: world.contact_point(*a, *b, tf),
+                    point: world.contact_point(*a, *b, &tr),
                 });
             }
             let ordered: Vec<(BodyId, BodyId)> = named.iter().map(|x| (x.2, x.3)).collect();

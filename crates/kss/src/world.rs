@@ -97,6 +97,9 @@ struct ContactGeometry {
     normal: Point,
     /// Normals (from `a` to `b`) of the edges of `M` active at the contact.
     edge_normals: Vec<Point>,
+    /// The active edges of `M`: the touched edge (`Ok(j)`: of `b`, `Err(i)`:
+    /// of `a`) and the touching vertex of the other body.
+    features: Vec<(Result<usize, usize>, usize)>,
 }
 
 /// Ids of bodies whose trajectory changed, for the structure to update.
@@ -586,6 +589,7 @@ impl World {
         // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A)
         let d = ba.traj.position_at(t).sub(&bb.traj.position_at(t));
         let mut active: Vec<(Int, Int)> = Vec::new();
+        let mut features = Vec::new();
         let mut outside = false;
         let mut edges = Vec::new();
         let exp = for_each_minkowski_edge(&ba.shape, &bb.shape, |e| edges.push(e));
@@ -597,7 +601,10 @@ impl World {
             let rhs = Rational::from_int(e.h).mul(&unit);
             match lhs.cmp(&rhs) {
                 std::cmp::Ordering::Greater => outside = true,
-                std::cmp::Ordering::Equal => active.push((e.nx, e.ny)),
+                std::cmp::Ordering::Equal => {
+                    features.push((e.source, e.other));
+                    active.push((e.nx, e.ny));
+                }
                 std::cmp::Ordering::Less => {}
             }
         }
@@ -626,35 +633,50 @@ impl World {
         Some(ContactGeometry {
             normal,
             edge_normals,
+            features,
         })
     }
 
-    /// A contact point of touching bodies at time `t`, for display.
-    pub fn contact_point(&self, a: BodyId, b: BodyId, t: f64) -> [f64; 2] {
+    /// A point shared by touching bodies `a` and `b` at time `t` (the
+    /// average of the touching vertices and touched edge ends that lie on
+    /// both polygons: on the contact segment for flush edges), for display.
+    pub fn contact_point(&self, a: BodyId, b: BodyId, t: &Rational) -> [f64; 2] {
         let (ba, bb) = (self.body(a), self.body(b));
-        let pa: Vec<[f64; 2]> = (0..ba.shape.len())
-            .map(|i| ba.vertex(i).at_f64(t))
-            .collect();
-        let pb: Vec<[f64; 2]> = (0..bb.shape.len())
-            .map(|i| bb.vertex(i).at_f64(t))
-            .collect();
-        // the vertex of one polygon closest to the other polygon's vertices' centroid
-        let mut best = (f64::INFINITY, [0.0, 0.0]);
-        let cb = centroid_f64(&pb);
-        let ca = centroid_f64(&pa);
-        for p in &pa {
-            let d = (p[0] - cb[0]).hypot(p[1] - cb[1]);
-            if d < best.0 {
-                best = (d, *p);
+        let Some(c) = self.contact(a, b, t) else {
+            return ba.traj.position_at(t).add(&ba.centroid).to_f64();
+        };
+        let (na, nb) = (ba.shape.len(), bb.shape.len());
+        let mut candidates: Vec<Point> = Vec::new();
+        for (source, other) in &c.features {
+            match *source {
+                Ok(j) => {
+                    candidates.push(bb.vertex_at(j, t));
+                    candidates.push(bb.vertex_at((j + 1) % nb, t));
+                    candidates.push(ba.vertex_at(*other, t));
+                }
+                Err(i) => {
+                    candidates.push(ba.vertex_at(i, t));
+                    candidates.push(ba.vertex_at((i + 1) % na, t));
+                    candidates.push(bb.vertex_at(*other, t));
+                }
             }
         }
-        for p in &pb {
-            let d = (p[0] - ca[0]).hypot(p[1] - ca[1]);
-            if d < best.0 {
-                best = (d, *p);
-            }
+        let inside = |body: &Body, p: &Point| {
+            let n = body.shape.len();
+            (0..n).all(|i| {
+                crate::geom::orient(&body.vertex_at(i, t), &body.vertex_at((i + 1) % n, t), p)
+                    != Sign::Negative
+            })
+        };
+        let on_both: Vec<[f64; 2]> = candidates
+            .iter()
+            .filter(|p| inside(ba, p) && inside(bb, p))
+            .map(|p| p.to_f64())
+            .collect();
+        if on_both.is_empty() {
+            return candidates[0].to_f64();
         }
-        best.1
+        centroid_f64(&on_both)
     }
 }
 

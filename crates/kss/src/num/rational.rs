@@ -208,34 +208,38 @@ impl Rational {
     /// The nearest double, within a couple of units in the last place (for
     /// display and for outputs; never for decisions).
     pub fn to_f64(&self) -> f64 {
-        let n = self.num.to_f64().value();
-        let d = self.den.to_f64().value();
-        if n.is_finite() && d.is_finite() && d != 0.0 {
-            let q = n / d;
-            if q == 0.0 && self.num.is_zero() {
-                return 0.0;
-            }
-            if q.is_finite() && q.abs() >= f64::MIN_POSITIVE {
-                return q;
-            }
+        if self.num.is_zero() {
+            return 0.0;
+        }
+        let nb = self.num.unsigned_abs_ref().bit_len();
+        let db = self.den.unsigned_abs_ref().bit_len();
+        if nb <= 53 && db <= 53 {
+            // both exact as doubles: one IEEE division rounds correctly
+            return self.num.to_f64().value() / self.den.to_f64().value();
         }
         self.to_f64_slow()
     }
 
+    /// Correctly rounded (to nearest, ties to even) for results in the
+    /// normal range: a quotient with at least 65 significant bits plus a
+    /// sticky bit for the remainder, rounded once.
     fn to_f64_slow(&self) -> f64 {
         if self.num.is_zero() {
             return 0.0;
         }
-        // q = floor(|num| · 2^s / den) with about 64 significant bits.
         let nb = self.num.unsigned_abs_ref().bit_len() as i64;
         let db = self.den.unsigned_abs_ref().bit_len() as i64;
         let s = 66 - (nb - db);
         let n = Int::from(self.num.unsigned_abs_ref().clone());
-        let q = if s >= 0 {
-            (n << s as usize) / &self.den
+        let (num, den) = if s >= 0 {
+            (n << s as usize, self.den.clone())
         } else {
-            (n >> (-s) as usize) / &self.den
+            (n, &self.den << (-s) as usize)
         };
+        let (mut q, r) = (&num / &den, &num % &den);
+        if !r.is_zero() {
+            q |= Int::ONE; // sticky bit, far below the rounding position
+        }
         let qf = q.to_f64().value();
         let v = scale_pow2(qf, -s);
         if self.num < Int::ZERO {
@@ -358,6 +362,21 @@ mod tests {
         );
         let iv = a.interval();
         assert!(iv.lo < 1.0 / 3.0 + 1e-17 && iv.hi > 1.0 / 3.0 - 1e-17 && iv.lo <= iv.hi);
+    }
+
+    /// Regression (golden `head_on_decimal`): numerator and denominator
+    /// above 2^53 were rounded separately before dividing (double rounding).
+    #[test]
+    fn to_f64_rounds_once() {
+        let r = Rational::new(
+            Int::from(57646075230342355u64),
+            Int::from(36028797018963966u64),
+        );
+        assert_eq!(r.to_f64(), 1.6000000000000003);
+        // a value just above a tie between two doubles must round up
+        let one = Int::ONE << 60;
+        let tie_plus = Rational::new((&one << 53) + (&one << 0) + Int::ONE, &one << 53);
+        assert_eq!(tie_plus.to_f64(), 1.0 + f64::EPSILON);
     }
 
     #[test]
