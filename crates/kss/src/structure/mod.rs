@@ -27,6 +27,7 @@
 pub mod audit;
 pub mod build;
 pub mod certs;
+pub mod engine;
 pub mod faces;
 
 use crate::world::BodyId;
