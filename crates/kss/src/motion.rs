@@ -185,6 +185,32 @@ pub fn orient_poly(p: &LinearPoint, q: &LinearPoint, r: &LinearPoint) -> Poly {
     Poly::new(c0, c1, c2)
 }
 
+/// `(q − p) · (r − p)` as a polynomial in time, scaled by a positive factor:
+/// with [`orient_poly`] it locates `r` relative to `p` and `q` (positive when
+/// `r` is on the same side of `p` as `q`).
+pub fn dot_poly(p: &LinearPoint, q: &LinearPoint, r: &LinearPoint) -> Poly {
+    let [ux0, ux1, uy0, uy1] = diff(p, q);
+    let [vx0, vx1, vy0, vy1] = diff(p, r);
+    let c0 = &ux0 * &vx0 + &uy0 * &vy0;
+    let c1 = &ux0 * &vx1 + &ux1 * &vx0 + &uy0 * &vy1 + &uy1 * &vy0;
+    let c2 = &ux1 * &vx1 + &uy1 * &vy1;
+    Poly::new(c0, c1, c2)
+}
+
+/// Which of three collinear points lies between the other two at time `t`
+/// (index 0, 1 or 2), decided exactly; `None` if two of them coincide.
+pub fn middle_of_collinear(pts: [&LinearPoint; 3], t: &crate::num::Time) -> Option<usize> {
+    use crate::num::Sign;
+    for m in 0..3 {
+        let (a, b) = (pts[(m + 1) % 3], pts[(m + 2) % 3]);
+        // m is strictly between a and b iff (a − m)·(b − m) < 0
+        if dot_poly(pts[m], a, b).sign_at(t) == Sign::Negative {
+            return Some(m);
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,6 +250,31 @@ mod tests {
             cert.sign_at(&Time::from_rational(t.clone())),
             orient(&p.at(&t), &q.at(&t), &v.at(&t))
         );
+    }
+
+    #[test]
+    fn middle_point_at_an_irrational_instant() {
+        let tri = BodyPolygon::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+        let t0 = r(0.0);
+        let fa = Frame::new(&Trajectory::through(&t0, &pt(0.0, 0.0), pt(1.0, 0.0)), &tri);
+        let fb = Frame::new(&Trajectory::through(&t0, &pt(5.0, 0.0), pt(0.0, 1.0)), &tri);
+        let fc = Frame::new(&Trajectory::through(&t0, &pt(0.0, 3.0), pt(2.0, 0.0)), &tri);
+        let (a, b, c) = (fa.vertex(&tri, 0), fb.vertex(&tri, 0), fc.vertex(&tri, 0));
+        let cert = orient_poly(&a, &b, &c);
+        assert_eq!(cert.roots().len(), 2);
+        assert!(
+            cert.roots()[0].as_rational().is_none(),
+            "an irrational instant"
+        );
+        for root in cert.roots() {
+            let m = middle_of_collinear([&a, &b, &c], &root).expect("distinct points");
+            // the middle point is inside the segment of the other two
+            let (p, q) = ([&a, &b, &c][(m + 1) % 3], [&a, &b, &c][(m + 2) % 3]);
+            assert_eq!(
+                dot_poly([&a, &b, &c][m], p, q).sign_at(&root),
+                Sign::Negative
+            );
+        }
     }
 
     #[test]

@@ -13,7 +13,7 @@ fn seeds() -> u64 {
     if std::env::var_os("KSS_SLOW").is_some() {
         5000
     } else {
-        250
+        400
     }
 }
 
