@@ -180,9 +180,21 @@ impl Poly {
     /// only touches zero (even multiplicity) and stays positive are skipped;
     /// use [`Poly::first_root_after`] to see those too.
     pub fn first_failure_after(&self, t: &Time) -> Option<Time> {
-        self.roots()
-            .into_iter()
-            .find(|r| r > t && self.sign_after(r) != Sign::Positive)
+        // The sign just after each root follows from the root structure, so
+        // no evaluation at a root (where the filter can never decide) is needed.
+        let roots = self.roots();
+        let c2 = Sign::of(&self.c[2]);
+        let after = |i: usize| match (self.degree(), roots.len()) {
+            (Some(1), _) => Sign::of(&self.c[1]),
+            (_, 1) => c2,            // double root: the sign of the leading term
+            _ if i == 0 => c2.neg(), // the smaller of two simple roots
+            _ => c2,
+        };
+        roots
+            .iter()
+            .enumerate()
+            .find(|(i, r)| *r > t && after(*i) != Sign::Positive)
+            .map(|(_, r)| r.clone())
     }
 }
 
