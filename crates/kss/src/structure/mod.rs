@@ -28,6 +28,7 @@ pub mod audit;
 pub mod build;
 pub mod certs;
 pub mod engine;
+pub mod events;
 pub mod faces;
 
 use crate::world::BodyId;

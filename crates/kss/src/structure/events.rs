@@ -1,0 +1,137 @@
+//! Classifying a certificate failure: which point of the collinear triple is
+//! in the middle, and whether that is a collision.
+//!
+//! A collision is reported exactly when a vertex of one body lies in the
+//! closed polygon edge of another (or two vertices of different bodies
+//! coincide). Every other failure is a change of the structure: a vertex
+//! meeting a bridge, or a junction turning straight.
+
+use super::certs::Cert;
+use super::{Att, Obj};
+use crate::motion::{middle_of_collinear, LinearPoint};
+use crate::num::Time;
+use crate::world::{BodyId, World};
+
+/// What a failing certificate means.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Failure {
+    /// Bodies `a` and `b` touch.
+    Contact {
+        /// One body.
+        a: BodyId,
+        /// The other.
+        b: BodyId,
+    },
+    /// `middle` lies strictly between `ends`, which are not a polygon edge of
+    /// another body (a vertex meeting a bridge, or a straight junction).
+    Between {
+        /// The middle point.
+        middle: Att,
+        /// The two outer points.
+        ends: (Att, Att),
+    },
+}
+
+fn point(world: &World, a: Att) -> LinearPoint {
+    match a.obj {
+        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Omega => unreachable!("certificates have finite points"),
+    }
+}
+
+fn body(a: Att) -> BodyId {
+    match a.obj {
+        Obj::Body(b) => b,
+        Obj::Omega => unreachable!("certificates have finite points"),
+    }
+}
+
+/// Whether `x` and `y` are the two ends of one polygon edge.
+fn is_edge(world: &World, x: Att, y: Att) -> bool {
+    if x.obj != y.obj {
+        return false;
+    }
+    let n = world.body(body(x)).shape.len() as u32;
+    (x.v + 1) % n == y.v || (y.v + 1) % n == x.v
+}
+
+/// Classify certificate `c`, whose three points are collinear at time `t`.
+pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
+    let pts = c.p.map(|a| point(world, a));
+    match middle_of_collinear([&pts[0], &pts[1], &pts[2]], t) {
+        None => {
+            // two of the points coincide: vertices of two different bodies
+            let (x, y) = if c.p[0].obj != c.p[1].obj {
+                (c.p[0], c.p[1])
+            } else if c.p[1].obj != c.p[2].obj {
+                (c.p[1], c.p[2])
+            } else {
+                (c.p[0], c.p[2])
+            };
+            Failure::Contact {
+                a: body(x),
+                b: body(y),
+            }
+        }
+        Some(m) => {
+            let (middle, x, y) = (c.p[m], c.p[(m + 1) % 3], c.p[(m + 2) % 3]);
+            if is_edge(world, x, y) && middle.obj != x.obj {
+                Failure::Contact {
+                    a: body(middle),
+                    b: body(x),
+                }
+            } else {
+                Failure::Between {
+                    middle,
+                    ends: (x, y),
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::num::Sign;
+    use crate::scenario::{CollisionMode, PolygonSpec, Scenario};
+    use crate::structure::certs::CertKind;
+
+    fn square(id: &str, x: f64, y: f64, vx: f64) -> PolygonSpec {
+        PolygonSpec {
+            id: id.into(),
+            vertices: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            position: [x, y],
+            velocity: [vx, 0.0],
+            fixed: false,
+        }
+    }
+
+    #[test]
+    fn vertex_on_edge_and_vertex_on_vertex() {
+        // b's vertex 0 at (3, 0.5) moves left onto a's edge 1 → 2 (x = 1)
+        let s = Scenario {
+            until: 10.0,
+            on_collision: CollisionMode::Stop,
+            polygons: vec![square("a", 0.0, 0.0, 0.0), square("b", 3.0, 0.5, -1.0)],
+            flight_plan_changes: vec![],
+        };
+        let w = World::new(&s, None).unwrap();
+        let (a, b) = (BodyId(0), BodyId(1));
+        let cert = Cert {
+            p: [Att::vertex(a, 1), Att::vertex(a, 2), Att::vertex(b, 0)],
+            sign: Sign::Negative,
+            kind: CertKind::Junction,
+        };
+        let t = Time::from_f64(2.0).unwrap();
+        assert_eq!(classify(&w, &cert, &t), Failure::Contact { a: b, b: a });
+        // the other way round: a's vertex 2 at (1, 1) lies inside b's edge
+        // 3 → 0 (x = 1, y from 1.5 to 0.5) at t = 2
+        let cert2 = Cert {
+            p: [Att::vertex(a, 2), Att::vertex(b, 3), Att::vertex(b, 0)],
+            sign: Sign::Positive,
+            kind: CertKind::Junction,
+        };
+        assert_eq!(classify(&w, &cert2, &t), Failure::Contact { a, b });
+    }
+}
