@@ -32,6 +32,9 @@ pub enum Command {
     Render(RenderArgs),
     /// Run a built-in scene, print its collisions and draw it.
     Demo(DemoArgs),
+    /// Benchmark kss against the baselines (parry2d, kinetic sort-and-sweep)
+    /// on fixed workloads; writes a Markdown table and SVG plots.
+    Bench(BenchArgs),
 }
 
 /// The kinetic structure (`--structure`).
@@ -319,4 +322,38 @@ pub struct DemoArgs {
     /// The kinetic structure (falls back to brute if not implemented).
     #[arg(long, value_enum, default_value_t = StructureArg::Hierarchical)]
     pub structure: StructureArg,
+}
+
+/// `kss bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Tiny workloads and a short budget (CI runs this; about a minute).
+    #[arg(long)]
+    pub quick: bool,
+    /// Results folder (bench.md, bench.json, plots, events).
+    #[arg(long, value_name = "DIR", default_value = "results")]
+    pub out: PathBuf,
+    /// Only these workloads: full names (e.g. gas-k1000-n8-c1000, see
+    /// --list) or families (flypast, gas, cluster, swarm, grazing, parallel,
+    /// far).
+    #[arg(long, value_name = "NAME", num_args = 1..)]
+    pub workload: Vec<String>,
+    /// Methods, comma-separated: brute, plain, hierarchical, sweep,
+    /// parry-toi, parry-step:N (fixed time step 1/N). Default: all, with
+    /// parry-step:30 and parry-step:240.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub methods: Vec<String>,
+    /// Time budget per cell in seconds (default 600, quick 5).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_positive)]
+    pub budget: Option<f64>,
+    /// Print the workloads and methods that would run, and exit.
+    #[arg(long)]
+    pub list: bool,
+    /// Internal: run one cell WORKLOAD/METHOD in this process (the parent
+    /// re-invokes the binary so that it can time it out and measure memory).
+    #[arg(long, hide = true, value_name = "WORKLOAD/METHOD")]
+    pub cell: Option<String>,
+    /// Internal: where the cell writes its events.
+    #[arg(long, hide = true, value_name = "FILE", requires = "cell")]
+    pub cell_events: Option<PathBuf>,
 }

@@ -8,7 +8,9 @@ use std::time::{Duration, Instant};
 use kss::gen;
 use kss::{CollisionEvent, RunError, RunOptions, RunStats, Scenario, StructureKind};
 
-use crate::cli::{Cli, Command, DemoArgs, GasArgs, GenArgs, GenFamily, RenderArgs, RunArgs};
+use crate::cli::{
+    BenchArgs, Cli, Command, DemoArgs, GasArgs, GenArgs, GenFamily, RenderArgs, RunArgs,
+};
 use crate::json::{self, json_f64, json_str};
 
 /// Why a command failed; the kind gives the exit status.
@@ -83,6 +85,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Gen(a) => gen_command(&a),
         Command::Render(a) => render(&a),
         Command::Demo(a) => demo(&a),
+        Command::Bench(a) => bench(&a),
     }
 }
 
@@ -580,4 +583,182 @@ pub fn demo(args: &DemoArgs) -> Result<(), CliError> {
         args.output.display()
     );
     Ok(())
+}
+
+/// The workloads selected by `--workload` (names or families) among the
+/// defaults of the mode.
+fn bench_workloads(args: &BenchArgs) -> Result<Vec<kss_bench::workload::Workload>, CliError> {
+    use kss_bench::workload::Workload;
+    let defaults = if args.quick {
+        Workload::quick()
+    } else {
+        Workload::full()
+    };
+    if args.workload.is_empty() {
+        return Ok(defaults);
+    }
+    let mut out: Vec<Workload> = Vec::new();
+    for name in &args.workload {
+        let picked: Vec<Workload> = if [
+            "flypast", "gas", "cluster", "swarm", "grazing", "parallel", "far",
+        ]
+        .contains(&name.as_str())
+        {
+            defaults
+                .iter()
+                .filter(|w| w.family() == name)
+                .cloned()
+                .collect()
+        } else {
+            vec![Workload::parse(name).map_err(|e| CliError::new(ErrorKind::Usage, e))?]
+        };
+        for w in picked {
+            if !out.contains(&w) {
+                out.push(w);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// `kss bench`.
+pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
+    use kss_bench::harness::{self, Config, Executor, Progress, Status};
+
+    if let Some(cell) = &args.cell {
+        let events = args
+            .cell_events
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("cell-events.jsonl"));
+        let budget = args.budget.unwrap_or(600.0);
+        let line = harness::cell_main(cell, &events, budget)
+            .map_err(|e| CliError::new(ErrorKind::Usage, e))?;
+        println!("{line}");
+        return Ok(());
+    }
+    let mut config = Config::new(args.quick, &args.out);
+    if let Some(b) = args.budget {
+        config.budget_seconds = b;
+    }
+    config.workloads = bench_workloads(args)?;
+    if !args.methods.is_empty() {
+        config.methods = args
+            .methods
+            .iter()
+            .map(|m| kss_bench::Method::parse(m.trim()))
+            .collect::<Result<_, _>>()
+            .map_err(|e| CliError::new(ErrorKind::Usage, e))?;
+    }
+    if args.list {
+        for w in &config.workloads {
+            println!("workload {}", w.name());
+        }
+        for m in &config.methods {
+            println!("method {}", m.name());
+        }
+        return Ok(());
+    }
+    let exe = std::env::current_exe().map_err(|e| {
+        CliError::new(
+            ErrorKind::Io,
+            format!("cannot find the kss executable: {e}"),
+        )
+    })?;
+    let executor = Executor::Subprocess {
+        exe,
+        args: vec!["bench".into()],
+    };
+    let terminal = io::stderr().is_terminal();
+    let bar = indicatif::ProgressBar::hidden();
+    if terminal {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "kss bench {bar:30} {pos}/{len} cells, {elapsed} [{msg}]",
+            )
+            .expect("valid template"),
+        );
+    }
+    let say = |line: String| {
+        if terminal {
+            bar.println(line);
+        } else {
+            eprintln!("{line}");
+        }
+    };
+    let mut done = 0usize;
+    let mut total = 0usize;
+    let mut on_progress = |p: Progress<'_>| match p {
+        Progress::Start { cells } => {
+            total = cells;
+            bar.set_length(cells as u64);
+            say(format!(
+                "kss bench: {} workloads x {} methods, budget {} s per cell, results in {}",
+                config.workloads.len(),
+                config.methods.len(),
+                config.budget_seconds,
+                args.out.display()
+            ));
+        }
+        Progress::CellStart { workload, method } => {
+            bar.set_message(format!("{workload} {method}"));
+        }
+        Progress::CellDone(cell) => {
+            done += 1;
+            bar.inc(1);
+            let o = &cell.outcome;
+            let what = match &o.status {
+                Status::Ok => format!(
+                    "{} collisions in {}",
+                    o.counters.collisions,
+                    kss_bench::report::human_seconds(o.wall_seconds)
+                ),
+                s => s.text(),
+            };
+            say(format!(
+                "[{done}/{total}] {} {}: {what}",
+                cell.workload, cell.method
+            ));
+        }
+    };
+    let run = harness::run(&config, &executor, &mut on_progress)
+        .map_err(|e| CliError::new(ErrorKind::Io, format!("benchmark: {e}")))?;
+    bar.finish_and_clear();
+    let machine = kss_bench::report::machine();
+    let files = kss_bench::report::write(&args.out, &run, &machine).map_err(|e| {
+        CliError::new(
+            ErrorKind::Io,
+            format!("cannot write results to {}: {e}", args.out.display()),
+        )
+    })?;
+    print!("{}", kss_bench::report::markdown(&run, &machine));
+    for f in &files {
+        eprintln!("kss bench: wrote {}", f.display());
+    }
+    eprintln!(
+        "kss bench: {} cells in {:.1} s",
+        run.cells.len(),
+        run.total_seconds
+    );
+    let broken: Vec<String> = run
+        .cells
+        .iter()
+        .filter(|c| {
+            matches!(c.outcome.status, Status::Error(_))
+                || (kss_bench::Method::parse(&c.method).is_ok_and(|m| m.is_exact())
+                    && c.comparison.as_ref().is_some_and(|x| !x.identical))
+        })
+        .map(|c| format!("{} {}", c.workload, c.method))
+        .collect();
+    if broken.is_empty() {
+        Ok(())
+    } else {
+        Err(CliError::new(
+            ErrorKind::Internal,
+            format!(
+                "benchmark cells failed or an exact method differs from the reference: {}",
+                broken.join(", ")
+            ),
+        ))
+    }
 }

@@ -1,0 +1,496 @@
+//! Running every method on every workload under a time budget.
+//!
+//! A *cell* is one method on one workload. With [`Executor::Subprocess`] each
+//! cell runs in a child process (the `kss` binary re-invoked with `bench
+//! --cell`), which is killed when it runs past the budget and which measures
+//! its own peak resident memory: the child builds the scenario, resets the
+//! kernel's peak-RSS counter (`/proc/self/clear_refs`), runs the method and
+//! reads `VmHWM` from `/proc/self/status`. So the figure is the largest
+//! resident size of the process during the method's run, the scenario
+//! (held by every method alike) included. With [`Executor::InProcess`]
+//! (tests) the budget is only checked cooperatively by the baselines and no
+//! memory is reported.
+//!
+//! Cells a method cannot finish are shown, never waited for: a method that
+//! ran out of budget at one size of a series is not run at larger sizes,
+//! nor where its measured growth (quadratic in the number of polygons for
+//! all-pairs methods, linear otherwise) predicts more than twice the budget.
+
+use std::collections::HashMap;
+use std::fs;
+use std::io::{BufRead, BufReader, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
+
+use crate::compare::{compare, Comparison};
+use crate::workload::Workload;
+use crate::{Counters, Deadline, Event, Failure, Method};
+
+/// How a cell ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", content = "detail", rename_all = "snake_case")]
+pub enum Status {
+    /// Completed.
+    Ok,
+    /// The library does not implement the structure yet.
+    NotImplemented,
+    /// The method cannot run this scenario.
+    Unsupported(String),
+    /// Ran out of the time budget (killed or stopped).
+    Budget,
+    /// Not run: predicted over budget from smaller sizes.
+    SkippedBudget,
+    /// Not run: the scene is too large for the memory guard.
+    SkippedMemory,
+    /// Failed (a bug); the message says how.
+    Error(String),
+}
+
+impl Status {
+    /// Short text for the table.
+    pub fn text(&self) -> String {
+        match self {
+            Status::Ok => "ok".into(),
+            Status::NotImplemented => "not implemented yet".into(),
+            Status::Unsupported(m) => format!("unsupported ({m})"),
+            Status::Budget => "over budget".into(),
+            Status::SkippedBudget => "skipped (budget)".into(),
+            Status::SkippedMemory => "skipped (memory)".into(),
+            Status::Error(m) => format!("error: {m}"),
+        }
+    }
+}
+
+/// What a cell reports (the child's one line of JSON on stdout).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CellOutcome {
+    /// How it ended.
+    pub status: Status,
+    /// Wall time of the method's run (scenario generation excluded).
+    pub wall_seconds: f64,
+    /// Scenario generation time.
+    pub setup_seconds: f64,
+    /// The method's counters.
+    pub counters: Counters,
+    /// Peak resident memory during the run, KiB (child processes only).
+    pub peak_rss_kib: Option<u64>,
+}
+
+impl CellOutcome {
+    fn not_run(status: Status) -> CellOutcome {
+        CellOutcome {
+            status,
+            wall_seconds: 0.0,
+            setup_seconds: 0.0,
+            counters: Counters::default(),
+            peak_rss_kib: None,
+        }
+    }
+}
+
+/// One cell's result, compared with the reference.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CellResult {
+    /// Workload name.
+    pub workload: String,
+    /// Method name.
+    pub method: String,
+    /// What the cell reported.
+    pub outcome: CellOutcome,
+    /// Against the reference's events (if both ran).
+    pub comparison: Option<Comparison>,
+}
+
+/// The whole run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BenchRun {
+    /// Quick mode.
+    pub quick: bool,
+    /// Time budget per cell, seconds.
+    pub budget_seconds: f64,
+    /// Workload names, in order.
+    pub workloads: Vec<String>,
+    /// Method names, in order.
+    pub methods: Vec<String>,
+    /// Which method's events each workload was compared against.
+    pub references: HashMap<String, String>,
+    /// Every cell.
+    pub cells: Vec<CellResult>,
+    /// Wall time of the whole run, seconds.
+    pub total_seconds: f64,
+}
+
+impl BenchRun {
+    /// The cell of `workload` and `method`.
+    pub fn cell(&self, workload: &str, method: &str) -> Option<&CellResult> {
+        self.cells
+            .iter()
+            .find(|c| c.workload == workload && c.method == method)
+    }
+}
+
+/// The configuration of a run.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// Quick mode (tiny workloads, short budget).
+    pub quick: bool,
+    /// Time budget per cell, seconds.
+    pub budget_seconds: f64,
+    /// Largest total number of vertices of a scene run.
+    pub max_vertices: usize,
+    /// Workloads, in order.
+    pub workloads: Vec<Workload>,
+    /// Methods, in order.
+    pub methods: Vec<Method>,
+    /// Where events files go (`<dir>/<workload>__<method>.jsonl`).
+    pub events_dir: PathBuf,
+}
+
+impl Config {
+    /// The defaults: quick (tiny sizes, 5 s per cell) or full (the issue's
+    /// matrix, 600 s per cell).
+    pub fn new(quick: bool, out: &Path) -> Config {
+        Config {
+            quick,
+            budget_seconds: if quick { 5.0 } else { 600.0 },
+            max_vertices: 1 << 24,
+            workloads: if quick {
+                Workload::quick()
+            } else {
+                Workload::full()
+            },
+            methods: Method::defaults(),
+            events_dir: out.join("events"),
+        }
+    }
+}
+
+/// Where cells run.
+#[derive(Clone, Debug)]
+pub enum Executor {
+    /// In this process; the budget is checked cooperatively.
+    InProcess,
+    /// In a child process: `exe args.. --cell WORKLOAD/METHOD --cell-events
+    /// FILE --budget SECONDS` must call [`cell_main`] and print its result.
+    Subprocess {
+        /// The executable.
+        exe: PathBuf,
+        /// Arguments before the cell arguments (e.g. `["bench"]`).
+        args: Vec<String>,
+    },
+}
+
+/// Progress notifications.
+#[derive(Clone, Debug)]
+pub enum Progress<'a> {
+    /// The run starts with this many cells.
+    Start {
+        /// Number of cells.
+        cells: usize,
+    },
+    /// A cell starts.
+    CellStart {
+        /// Workload name.
+        workload: &'a str,
+        /// Method name.
+        method: &'a str,
+    },
+    /// A cell ended.
+    CellDone(&'a CellResult),
+}
+
+fn events_path(dir: &Path, workload: &str, method: &str) -> PathBuf {
+    dir.join(format!("{workload}__{}.jsonl", method.replace(':', "-")))
+}
+
+/// Writes events as JSON lines.
+pub fn write_events(path: &Path, events: &[Event]) -> std::io::Result<()> {
+    let mut w = BufWriter::new(fs::File::create(path)?);
+    for e in events {
+        serde_json::to_writer(&mut w, e)?;
+        w.write_all(b"\n")?;
+    }
+    w.flush()
+}
+
+/// Reads events written by [`write_events`].
+pub fn read_events(path: &Path) -> std::io::Result<Vec<Event>> {
+    let r = BufReader::new(fs::File::open(path)?);
+    let mut out = Vec::new();
+    for line in r.lines() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        out.push(serde_json::from_str(&line).map_err(std::io::Error::other)?);
+    }
+    Ok(out)
+}
+
+/// Peak resident set size of this process, KiB (`VmHWM`).
+pub fn peak_rss_kib() -> Option<u64> {
+    let status = fs::read_to_string("/proc/self/status").ok()?;
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+}
+
+/// Resets the peak resident set size (Linux: `5` into `/proc/self/clear_refs`).
+pub fn reset_peak_rss() -> bool {
+    fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// Runs one cell in this process; returns the outcome and the events.
+pub fn run_cell(
+    workload: &Workload,
+    method: Method,
+    budget_seconds: f64,
+    measure_memory: bool,
+) -> (CellOutcome, Vec<Event>) {
+    let t0 = Instant::now();
+    let scenario = workload.scenario();
+    let setup_seconds = t0.elapsed().as_secs_f64();
+    let memory = measure_memory && reset_peak_rss();
+    let start = Instant::now();
+    let result = method.run_scaled(
+        &scenario,
+        workload.time_scale(),
+        Deadline::after(budget_seconds),
+    );
+    let wall_seconds = start.elapsed().as_secs_f64();
+    let peak_rss_kib = if memory { peak_rss_kib() } else { None };
+    let (status, counters, events) = match result {
+        Ok((events, counters)) => {
+            // a library structure cannot be stopped from outside in-process
+            let status = if wall_seconds > budget_seconds {
+                Status::Budget
+            } else {
+                Status::Ok
+            };
+            (status, counters, events)
+        }
+        Err(f) => (
+            match f {
+                Failure::NotImplemented => Status::NotImplemented,
+                Failure::Unsupported(m) => Status::Unsupported(m),
+                Failure::Budget => Status::Budget,
+                Failure::Error(m) => Status::Error(m),
+            },
+            Counters::default(),
+            Vec::new(),
+        ),
+    };
+    (
+        CellOutcome {
+            status,
+            wall_seconds,
+            setup_seconds,
+            counters,
+            peak_rss_kib,
+        },
+        events,
+    )
+}
+
+/// The child side of [`Executor::Subprocess`]: runs `cell`
+/// (`WORKLOAD/METHOD`), writes the events to `events_file` and returns the
+/// line of JSON to print on standard output.
+pub fn cell_main(cell: &str, events_file: &Path, budget_seconds: f64) -> Result<String, String> {
+    let (w, m) = cell
+        .split_once('/')
+        .ok_or_else(|| format!("--cell {cell:?}: expected WORKLOAD/METHOD"))?;
+    let workload = Workload::parse(w)?;
+    let method = Method::parse(m)?;
+    let (outcome, events) = run_cell(&workload, method, budget_seconds, true);
+    if outcome.status == Status::Ok {
+        write_events(events_file, &events)
+            .map_err(|e| format!("cannot write {}: {e}", events_file.display()))?;
+    }
+    serde_json::to_string(&outcome).map_err(|e| e.to_string())
+}
+
+/// Runs a cell in a child process, killing it past the budget.
+fn run_child(
+    exe: &Path,
+    args: &[String],
+    workload: &Workload,
+    method: Method,
+    budget_seconds: f64,
+    events_file: &Path,
+) -> CellOutcome {
+    let mut cmd = Command::new(exe);
+    cmd.args(args)
+        .arg("--cell")
+        .arg(format!("{}/{}", workload.name(), method.name()))
+        .arg("--cell-events")
+        .arg(events_file)
+        .arg("--budget")
+        .arg(format!("{budget_seconds}"))
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = match cmd.spawn() {
+        Ok(c) => c,
+        Err(e) => return CellOutcome::not_run(Status::Error(format!("cannot start: {e}"))),
+    };
+    // generous room for building large scenes before the method starts
+    let limit = Duration::from_secs_f64(budget_seconds * 1.2 + 10.0);
+    let start = Instant::now();
+    let exit = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if start.elapsed() > limit => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(5)),
+            Err(e) => return CellOutcome::not_run(Status::Error(format!("wait: {e}"))),
+        }
+    };
+    let Some(exit) = exit else {
+        let mut o = CellOutcome::not_run(Status::Budget);
+        o.wall_seconds = start.elapsed().as_secs_f64();
+        return o;
+    };
+    let mut out = String::new();
+    let mut err = String::new();
+    if let Some(mut s) = child.stdout.take() {
+        let _ = s.read_to_string(&mut out);
+    }
+    if let Some(mut s) = child.stderr.take() {
+        let _ = s.read_to_string(&mut err);
+    }
+    match out
+        .lines()
+        .last()
+        .and_then(|l| serde_json::from_str(l).ok())
+    {
+        Some(o) if exit.success() => o,
+        _ => {
+            let last = err
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("");
+            CellOutcome::not_run(Status::Error(format!("child exited with {exit}: {last}")))
+        }
+    }
+}
+
+/// Runs the benchmark: every method on every workload.
+pub fn run(
+    config: &Config,
+    executor: &Executor,
+    on_progress: &mut dyn FnMut(Progress<'_>),
+) -> std::io::Result<BenchRun> {
+    let started = Instant::now();
+    fs::create_dir_all(&config.events_dir)?;
+    on_progress(Progress::Start {
+        cells: config.workloads.len() * config.methods.len(),
+    });
+    // per (series, method): the last size run and its wall time, or over budget
+    let mut history: HashMap<(String, String), (f64, f64, bool)> = HashMap::new();
+    let mut run = BenchRun {
+        quick: config.quick,
+        budget_seconds: config.budget_seconds,
+        workloads: config.workloads.iter().map(|w| w.name()).collect(),
+        methods: config.methods.iter().map(|m| m.name()).collect(),
+        references: HashMap::new(),
+        cells: Vec::new(),
+        total_seconds: 0.0,
+    };
+    // smaller sizes first within a series, so that budgets carry over
+    let mut order: Vec<&Workload> = config.workloads.iter().collect();
+    order.sort_by(|a, b| {
+        let (sa, za) = a.series();
+        let (sb, zb) = b.series();
+        sa.cmp(&sb).then(za.total_cmp(&zb))
+    });
+    for workload in order {
+        let wname = workload.name();
+        let (series, size) = workload.series();
+        let mut events: HashMap<String, Vec<Event>> = HashMap::new();
+        let mut cells = Vec::new();
+        for &method in &config.methods {
+            let mname = method.name();
+            on_progress(Progress::CellStart {
+                workload: &wname,
+                method: &mname,
+            });
+            let key = (series.clone(), mname.clone());
+            let predicted_over = history.get(&key).is_some_and(|&(z, wall, over)| {
+                let exponent = if workload.is_many_body()
+                    && matches!(method, Method::Brute | Method::ParryToi)
+                {
+                    2.0
+                } else {
+                    1.0
+                };
+                over || wall * (size / z).powf(exponent) > 2.0 * config.budget_seconds
+            });
+            let outcome = if workload.vertices() > config.max_vertices {
+                CellOutcome::not_run(Status::SkippedMemory)
+            } else if predicted_over {
+                CellOutcome::not_run(Status::SkippedBudget)
+            } else {
+                let file = events_path(&config.events_dir, &wname, &mname);
+                let _ = fs::remove_file(&file);
+                match executor {
+                    Executor::InProcess => {
+                        let (o, ev) = run_cell(workload, method, config.budget_seconds, false);
+                        if o.status == Status::Ok {
+                            write_events(&file, &ev)?;
+                        }
+                        o
+                    }
+                    Executor::Subprocess { exe, args } => {
+                        run_child(exe, args, workload, method, config.budget_seconds, &file)
+                    }
+                }
+            };
+            match outcome.status {
+                Status::Ok => {
+                    history.insert(key, (size, outcome.wall_seconds, false));
+                    let file = events_path(&config.events_dir, &wname, &mname);
+                    events.insert(mname.clone(), read_events(&file)?);
+                }
+                Status::Budget | Status::SkippedBudget => {
+                    history.insert(key, (size, f64::INFINITY, true));
+                }
+                _ => {}
+            }
+            let cell = CellResult {
+                workload: wname.clone(),
+                method: mname,
+                outcome,
+                comparison: None,
+            };
+            on_progress(Progress::CellDone(&cell));
+            cells.push(cell);
+        }
+        // the reference: brute if it ran, else the first exact method that did
+        let reference = config
+            .methods
+            .iter()
+            .filter(|m| m.is_exact())
+            .map(|m| m.name())
+            .find(|m| events.contains_key(m));
+        if let Some(r) = &reference {
+            let want = &events[r];
+            for cell in &mut cells {
+                if let Some(got) = events.get(&cell.method) {
+                    cell.comparison = Some(compare(want, got));
+                }
+            }
+            run.references.insert(wname.clone(), r.clone());
+        }
+        run.cells.extend(cells);
+    }
+    run.total_seconds = started.elapsed().as_secs_f64();
+    Ok(run)
+}

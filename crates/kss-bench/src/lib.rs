@@ -1,0 +1,119 @@
+//! Benchmarks of kss against what a user would pick instead, on the same
+//! workloads, in one run on one machine.
+//!
+//! The baselines live here and never in the `kss` library's dependencies:
+//!
+//! - **brute**: the library's exact all-pairs reference (`kss::run` with
+//!   [`kss::StructureKind::Brute`]); `plain` and `hierarchical` go through
+//!   `kss::run` too and are measured as soon as the library implements them;
+//! - **sweep** ([`sweep`]): a kinetic sort-and-sweep broad phase (kinetic
+//!   sorted lists of bounding-box endpoints on x and y, exact swap times) with
+//!   the library's exact pair time of impact for overlapping boxes; exact;
+//! - **parry-toi** ([`parry::run_toi`]): all-pairs time of impact with
+//!   parry2d-f64's `cast_shapes`, event-driven, recomputing a polygon's pairs
+//!   when its motion changes (what a practitioner with a geometry library
+//!   writes first); floating point;
+//! - **parry-step** ([`parry::run_step`]): fixed time step with continuous
+//!   collision detection (swept bounding boxes, sort-and-sweep, `cast_shapes`
+//!   for candidate pairs each step, TOI sub-steps), as rapier and Box2D do.
+//!
+//! [`workload`] defines the workloads (generated with `kss::gen` and fixed
+//! seeds), [`harness`] runs every method on every workload under a time
+//! budget (each cell in a child process when an executable is given, which
+//! also measures the method's own peak memory), [`compare`] counts missed
+//! and wrong-time collisions against the exact reference, and [`report`]
+//! writes the Markdown table, the SVG plots and the machine description.
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod compare;
+pub mod exact;
+pub mod harness;
+pub mod method;
+pub mod parry;
+pub mod report;
+pub mod sweep;
+pub mod workload;
+
+pub use method::Method;
+
+/// One reported collision, as every method reports it: polygons `a < b`
+/// (byte-wise) touch at `time` (rounded to a double for the exact methods).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Event {
+    /// Collision time.
+    pub time: f64,
+    /// Byte-wise smaller id.
+    pub a: String,
+    /// Byte-wise larger id.
+    pub b: String,
+}
+
+/// What one method did on one scenario (besides its events).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Counters {
+    /// Collisions reported.
+    pub collisions: u64,
+    /// Events processed: for kinetic methods every certificate failure,
+    /// collision and flight-plan change; for the fixed-step method the
+    /// number of steps and TOI sub-steps.
+    pub events: u64,
+    /// Largest number of scheduled certificates (pair times, swap
+    /// certificates); 0 for the fixed-step method.
+    pub certificates_max: u64,
+    /// Narrow-phase queries (pair time-of-impact computations).
+    pub pair_tests: u64,
+}
+
+/// Why a method could not finish a scenario.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Failure {
+    /// The library does not implement this structure yet.
+    NotImplemented,
+    /// The method does not support this scenario (the message says why).
+    Unsupported(String),
+    /// The time budget ran out.
+    Budget,
+    /// Anything else (a bug).
+    Error(String),
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::NotImplemented => f.write_str("not implemented yet"),
+            Failure::Unsupported(m) => write!(f, "unsupported: {m}"),
+            Failure::Budget => f.write_str("over budget"),
+            Failure::Error(m) => write!(f, "error: {m}"),
+        }
+    }
+}
+
+/// Orders two ids byte-wise, as the contract does.
+pub(crate) fn ordered<'a>(x: &'a str, y: &'a str) -> (&'a str, &'a str) {
+    if x.as_bytes() <= y.as_bytes() {
+        (x, y)
+    } else {
+        (y, x)
+    }
+}
+
+/// A wall-clock deadline checked cooperatively by the baselines.
+#[derive(Clone, Copy, Debug)]
+pub struct Deadline(Option<std::time::Instant>);
+
+impl Deadline {
+    /// No deadline.
+    pub const NONE: Deadline = Deadline(None);
+
+    /// `seconds` from now.
+    pub fn after(seconds: f64) -> Deadline {
+        Deadline(std::time::Instant::now().checked_add(std::time::Duration::from_secs_f64(seconds)))
+    }
+
+    /// Whether the deadline has passed.
+    pub fn passed(&self) -> bool {
+        self.0.is_some_and(|d| std::time::Instant::now() >= d)
+    }
+}

@@ -1,0 +1,157 @@
+//! The methods compared, and running one of them on a scenario.
+
+use kss::{RunError, RunOptions, Scenario, StructureKind};
+
+use crate::{Counters, Deadline, Event, Failure};
+
+/// A collision-detection method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// kss's exact all-pairs reference (`kss::run`, brute).
+    Brute,
+    /// kss's kinetic separation structure without hierarchy (`kss::run`, plain).
+    Plain,
+    /// kss's separation-sensitive structure (`kss::run`, hierarchical).
+    Hierarchical,
+    /// Kinetic sort-and-sweep with exact pair times ([`crate::sweep`]).
+    Sweep,
+    /// parry2d-f64 time of impact, all pairs, event-driven.
+    ParryToi,
+    /// parry2d-f64 fixed time step `1 / per_unit` with CCD.
+    ParryStep {
+        /// Steps per unit of simulated time.
+        per_unit: u32,
+    },
+}
+
+impl Method {
+    /// The methods of a default run (the fixed-step method at two step sizes).
+    pub fn defaults() -> Vec<Method> {
+        vec![
+            Method::Brute,
+            Method::Plain,
+            Method::Hierarchical,
+            Method::Sweep,
+            Method::ParryToi,
+            Method::ParryStep { per_unit: 30 },
+            Method::ParryStep { per_unit: 240 },
+        ]
+    }
+
+    /// The name on the command line: `brute`, `plain`, `hierarchical`,
+    /// `sweep`, `parry-toi`, `parry-step:N` (time step 1/N).
+    pub fn name(&self) -> String {
+        match self {
+            Method::Brute => "brute".into(),
+            Method::Plain => "plain".into(),
+            Method::Hierarchical => "hierarchical".into(),
+            Method::Sweep => "sweep".into(),
+            Method::ParryToi => "parry-toi".into(),
+            Method::ParryStep { per_unit } => format!("parry-step:{per_unit}"),
+        }
+    }
+
+    /// A label for tables and plots.
+    pub fn label(&self) -> String {
+        match self {
+            Method::ParryStep { per_unit } => format!("parry-step dt=1/{per_unit}"),
+            m => m.name(),
+        }
+    }
+
+    /// Parses [`Method::name`].
+    pub fn parse(s: &str) -> Result<Method, String> {
+        Ok(match s {
+            "brute" => Method::Brute,
+            "plain" => Method::Plain,
+            "hierarchical" => Method::Hierarchical,
+            "sweep" => Method::Sweep,
+            "parry-toi" => Method::ParryToi,
+            _ => {
+                let Some(n) = s.strip_prefix("parry-step:") else {
+                    return Err(format!(
+                        "unknown method {s:?}: use brute, plain, hierarchical, sweep, parry-toi or parry-step:N (time step 1/N)"
+                    ));
+                };
+                let per_unit: u32 = n
+                    .parse()
+                    .ok()
+                    .filter(|&n| n > 0)
+                    .ok_or_else(|| format!("{s:?}: N must be a positive integer"))?;
+                Method::ParryStep { per_unit }
+            }
+        })
+    }
+
+    /// Whether the method is exact (its events must equal brute's).
+    pub fn is_exact(&self) -> bool {
+        matches!(
+            self,
+            Method::Brute | Method::Plain | Method::Hierarchical | Method::Sweep
+        )
+    }
+
+    /// Runs the method on `scenario`, collecting its events.
+    pub fn run(
+        &self,
+        scenario: &Scenario,
+        deadline: Deadline,
+    ) -> Result<(Vec<Event>, Counters), Failure> {
+        self.run_scaled(scenario, 1.0, deadline)
+    }
+
+    /// [`Method::run`] on a scenario whose motions are `time_scale` times
+    /// slower than usual: the fixed time step is `time_scale / N`, so that
+    /// a step covers the same distance whatever the workload's time unit.
+    pub fn run_scaled(
+        &self,
+        scenario: &Scenario,
+        time_scale: f64,
+        deadline: Deadline,
+    ) -> Result<(Vec<Event>, Counters), Failure> {
+        match self {
+            Method::Brute => run_library(scenario, StructureKind::Brute),
+            Method::Plain => run_library(scenario, StructureKind::Plain),
+            Method::Hierarchical => run_library(scenario, StructureKind::Hierarchical),
+            Method::Sweep => crate::sweep::run(scenario, deadline),
+            Method::ParryToi => crate::parry::run_toi(scenario, deadline),
+            Method::ParryStep { per_unit } => {
+                crate::parry::run_step(scenario, time_scale / f64::from(*per_unit), deadline)
+            }
+        }
+    }
+}
+
+/// One of the library's structures through `kss::run` (no cooperative
+/// deadline: the harness's child process is killed when over budget).
+fn run_library(
+    scenario: &Scenario,
+    structure: StructureKind,
+) -> Result<(Vec<Event>, Counters), Failure> {
+    let options = RunOptions {
+        structure,
+        ..Default::default()
+    };
+    let mut events = Vec::new();
+    let stats = kss::run(scenario, &options, &mut |e| {
+        events.push(Event {
+            time: e.time.to_f64(),
+            a: e.a.clone(),
+            b: e.b.clone(),
+        })
+    })
+    .map_err(|e| match e {
+        RunError::NotImplemented(_) => Failure::NotImplemented,
+        e => Failure::Error(e.to_string()),
+    })?;
+    let pair_tests = stats.events_by_kind.get("pair_computation").copied();
+    Ok((
+        events,
+        Counters {
+            collisions: stats.collisions,
+            events: stats.events_processed,
+            certificates_max: stats.certificates_max,
+            pair_tests: pair_tests.unwrap_or(0),
+        },
+    ))
+}

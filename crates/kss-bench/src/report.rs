@@ -1,0 +1,667 @@
+//! The results folder: `bench.md` (machine, ratio table, accuracy, every
+//! cell), `bench.json` (the raw run) and SVG plots (hand-written SVG, log-log).
+
+use std::fmt::Write as _;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::harness::{BenchRun, CellResult, Status};
+use crate::workload::Workload;
+use crate::Method;
+
+/// The machine a run was measured on.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Machine {
+    /// CPU model (`/proc/cpuinfo`).
+    pub cpu: String,
+    /// Logical cores available.
+    pub cores: usize,
+    /// Total memory, GiB (`/proc/meminfo`).
+    pub memory_gib: f64,
+    /// Operating system and kernel.
+    pub os: String,
+    /// The compiler that built the benchmark.
+    pub rustc: String,
+    /// `release` or `debug`.
+    pub profile: String,
+    /// Date of the run (UTC).
+    pub date: String,
+}
+
+/// Describes this machine.
+pub fn machine() -> Machine {
+    let cpuinfo = fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let cpu = cpuinfo
+        .lines()
+        .find_map(|l| l.strip_prefix("model name"))
+        .and_then(|l| l.split_once(':'))
+        .map(|(_, v)| v.trim().to_string())
+        .unwrap_or_else(|| "unknown".into());
+    let meminfo = fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    let memory_gib = meminfo
+        .lines()
+        .find_map(|l| l.strip_prefix("MemTotal:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+        .map_or(0.0, |kib| kib / (1024.0 * 1024.0));
+    let kernel = fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default();
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    Machine {
+        cpu,
+        cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        memory_gib,
+        os: format!("{} {}", std::env::consts::OS, kernel.trim()),
+        rustc: env!("KSS_BENCH_RUSTC").to_string(),
+        profile: if cfg!(debug_assertions) {
+            "debug".into()
+        } else {
+            "release".into()
+        },
+        date: civil_date(secs),
+    }
+}
+
+/// `YYYY-MM-DD HH:MM` (UTC) of a Unix time.
+fn civil_date(secs: u64) -> String {
+    let days = (secs / 86_400) as i64;
+    let rem = secs % 86_400;
+    // days since 1970-01-01 to a civil date (proleptic Gregorian)
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02}",
+        rem / 3600,
+        (rem % 3600) / 60
+    )
+}
+
+/// A ratio with two significant digits (at least two decimals).
+pub fn format_ratio(r: f64) -> String {
+    if !(r.is_finite() && r > 0.0) || r >= 0.1 {
+        format!("{r:.2}")
+    } else {
+        let decimals = (1.0 - r.log10().floor()) as usize;
+        format!("{r:.decimals$}")
+    }
+}
+
+/// A duration for people.
+pub fn human_seconds(s: f64) -> String {
+    if s < 1e-3 {
+        format!("{:.0} µs", s * 1e6)
+    } else if s < 1.0 {
+        format!("{:.1} ms", s * 1e3)
+    } else {
+        format!("{s:.2} s")
+    }
+}
+
+fn method_label(name: &str) -> String {
+    Method::parse(name).map_or_else(|_| name.to_string(), |m| m.label())
+}
+
+/// The wall time of the ratio's base for a workload: brute's, else the
+/// reference's (marked with `*`).
+fn base_time(run: &BenchRun, workload: &str) -> Option<(f64, bool)> {
+    let ok = |m: &str| {
+        run.cell(workload, m)
+            .filter(|c| c.outcome.status == Status::Ok)
+            .map(|c| c.outcome.wall_seconds)
+    };
+    if let Some(t) = ok("brute") {
+        return Some((t, false));
+    }
+    let r = run.references.get(workload)?;
+    ok(r).map(|t| (t, true))
+}
+
+fn status_short(c: &CellResult) -> String {
+    match &c.outcome.status {
+        Status::Ok => String::new(),
+        Status::NotImplemented => "n/i".into(),
+        Status::Unsupported(_) => "unsupported".into(),
+        Status::Budget => "over budget".into(),
+        Status::SkippedBudget => "skipped (budget)".into(),
+        Status::SkippedMemory => "skipped (memory)".into(),
+        Status::Error(_) => "error".into(),
+    }
+}
+
+/// Whether an exact method's events differ from the reference (a bug).
+fn exact_differs(c: &CellResult) -> bool {
+    Method::parse(&c.method).is_ok_and(|m| m.is_exact())
+        && c.comparison.as_ref().is_some_and(|x| !x.identical)
+}
+
+fn accuracy_text(c: &CellResult, bounce: bool) -> String {
+    match &c.comparison {
+        None => String::new(),
+        Some(x) if x.identical => "exact".into(),
+        Some(x) if bounce => format!("first {} of {} agree", x.agreeing_prefix, x.reference),
+        Some(x) => {
+            let mut parts = Vec::new();
+            if x.missed > 0 {
+                parts.push(format!("{} missed", x.missed));
+            }
+            if x.wrong_time > 0 {
+                parts.push(format!("{} wrong time", x.wrong_time));
+            }
+            if x.extra > 0 {
+                parts.push(format!("{} extra", x.extra));
+            }
+            if parts.is_empty() {
+                "within 1e-12".into()
+            } else {
+                parts.join(", ")
+            }
+        }
+    }
+}
+
+/// The Markdown report.
+pub fn markdown(run: &BenchRun, m: &Machine) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# kss bench results\n");
+    let _ = writeln!(
+        s,
+        "Machine: {} ({} logical cores), {:.1} GiB memory, {}; built with {} ({} profile); run on {} UTC.\n",
+        m.cpu, m.cores, m.memory_gib, m.os, m.rustc, m.profile, m.date
+    );
+    let _ = writeln!(
+        s,
+        "Mode: {}; time budget {} per cell; whole run {}. Every method ran on the same \
+         machine in this one run; each cell in its own process, one at a time.\n",
+        if run.quick {
+            "quick (tiny workloads; CI checks only that it runs)"
+        } else {
+            "full"
+        },
+        human_seconds(run.budget_seconds),
+        human_seconds(run.total_seconds)
+    );
+    let methods: Vec<String> = run.methods.clone();
+    let workloads: Vec<(String, Option<Workload>)> = run
+        .workloads
+        .iter()
+        .map(|w| (w.clone(), Workload::parse(w).ok()))
+        .collect();
+
+    // 1. ratios
+    let _ = writeln!(s, "## Wall time relative to brute (lower is faster)\n");
+    let _ = writeln!(
+        s,
+        "Each cell: wall time divided by brute's on the same workload (`*`: by the \
+         exact reference's, brute did not finish), then the wall time. `n/i`: not \
+         implemented in the library yet.\n"
+    );
+    let _ = write!(s, "| workload |");
+    for me in &methods {
+        let _ = write!(s, " {} |", method_label(me));
+    }
+    let _ = write!(s, "\n| --- |");
+    for _ in &methods {
+        let _ = write!(s, " ---: |");
+    }
+    s.push('\n');
+    for (w, _) in &workloads {
+        let base = base_time(run, w);
+        let _ = write!(s, "| {w} |");
+        for me in &methods {
+            let text = match run.cell(w, me) {
+                Some(c) if c.outcome.status == Status::Ok => {
+                    let t = c.outcome.wall_seconds;
+                    match base {
+                        Some((b, star)) if b > 0.0 => format!(
+                            "{}{} ({})",
+                            format_ratio(t / b),
+                            if star { "*" } else { "" },
+                            human_seconds(t)
+                        ),
+                        _ => human_seconds(t),
+                    }
+                }
+                Some(c) => status_short(c),
+                None => String::new(),
+            };
+            let _ = write!(s, " {text} |");
+        }
+        s.push('\n');
+    }
+
+    // 2. accuracy
+    let _ = writeln!(s, "\n## Collisions found against the exact reference\n");
+    let _ = writeln!(
+        s,
+        "`exact`: the same events as the reference (brute, or the first exact method \
+         that finished), times within the contract's 1e-12. Otherwise the counts of \
+         reference collisions missed, reported at a wrong time (relative error above \
+         1e-12) and reported but not in the reference. In bounce mode (gas) \
+         trajectories diverge after the first difference, so the count of leading \
+         events that agree is shown instead.\n"
+    );
+    let _ = write!(s, "| workload | reference collisions |");
+    for me in &methods {
+        let _ = write!(s, " {} |", method_label(me));
+    }
+    let _ = write!(s, "\n| --- | ---: |");
+    for _ in &methods {
+        let _ = write!(s, " --- |");
+    }
+    s.push('\n');
+    for (w, wl) in &workloads {
+        let bounce = wl
+            .as_ref()
+            .is_some_and(|w| w.mode() == kss::CollisionMode::Bounce);
+        let refc = run
+            .references
+            .get(w)
+            .and_then(|r| run.cell(w, r))
+            .map_or("—".to_string(), |c| {
+                c.outcome.counters.collisions.to_string()
+            });
+        let _ = write!(s, "| {w} | {refc} |");
+        for me in &methods {
+            let text = run.cell(w, me).map_or(String::new(), |c| {
+                if exact_differs(c) {
+                    format!("**DIFFERS (bug)**: {}", accuracy_text(c, false))
+                } else if c.outcome.status == Status::Ok {
+                    accuracy_text(c, bounce)
+                } else {
+                    status_short(c)
+                }
+            });
+            let _ = write!(s, " {text} |");
+        }
+        s.push('\n');
+    }
+
+    // 3. every cell
+    let _ = writeln!(s, "\n## Every cell\n");
+    let _ = writeln!(
+        s,
+        "`events`: certificate failures, collisions and flight-plan changes \
+         processed (fixed step: steps and TOI sub-steps); `certificates`: largest \
+         number scheduled at once (pair times, swap certificates); `pair tests`: \
+         narrow-phase time-of-impact computations (not reported by the library's \
+         structures); `peak RSS`: the largest resident memory of the cell's process \
+         while the method ran, the scene itself included (reset after building the \
+         scene, read from `VmHWM`).\n"
+    );
+    let _ = writeln!(
+        s,
+        "| workload | method | status | wall | setup | collisions | events | certificates | pair tests | peak RSS (MiB) |"
+    );
+    let _ = writeln!(
+        s,
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+    );
+    for (w, _) in &workloads {
+        for me in &methods {
+            let Some(c) = run.cell(w, me) else { continue };
+            let o = &c.outcome;
+            let ok = o.status == Status::Ok;
+            let num = |x: u64| if ok { x.to_string() } else { String::new() };
+            let _ = writeln!(
+                s,
+                "| {w} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                method_label(me),
+                o.status.text(),
+                if ok {
+                    human_seconds(o.wall_seconds)
+                } else if o.status == Status::Budget {
+                    format!("> {}", human_seconds(run.budget_seconds))
+                } else {
+                    String::new()
+                },
+                if ok {
+                    human_seconds(o.setup_seconds)
+                } else {
+                    String::new()
+                },
+                num(o.counters.collisions),
+                num(o.counters.events),
+                num(o.counters.certificates_max),
+                if ok && o.counters.pair_tests > 0 {
+                    o.counters.pair_tests.to_string()
+                } else {
+                    String::new()
+                },
+                o.peak_rss_kib
+                    .filter(|_| ok)
+                    .map_or(String::new(), |k| format!("{:.1}", k as f64 / 1024.0)),
+            );
+        }
+    }
+    let _ = writeln!(s, "\n## Workloads and methods\n");
+    let _ = writeln!(
+        s,
+        "- flypast-n<N>-r<R>: two regular N-gons of diameter D = 1, one passing the \
+         other at the gap s = D/R (a near miss: no collision), `stop` mode.\n\
+         - gas-k<K>-n<N>-c<C>: K random convex N-gons in a box of four fixed walls, \
+         random velocities, `bounce` mode, simulated long enough for about C collisions.\n\
+         - cluster-k<K>: K octagons on a unit grid, gaps down to 1/1000 of their size, \
+         slow random velocities, `remove` mode.\n\
+         - swarm-k<K>: K octagons spread 64 times wider than the gas, `remove` mode.\n\
+         - grazing-p<P>, parallel-p<P>, far-k<K> (beyond the issue's list): P pairs with \
+         tangential grazing contacts, P pairs touching flush while moving parallel to \
+         edges, a gas of K octagons around coordinates 10^6; `remove` mode.\n\
+         - brute / plain / hierarchical: the kss library (`kss::run`); sweep: kinetic \
+         sort-and-sweep of bounding-box endpoints with exact swap times and the \
+         library's exact pair times; parry-toi: parry2d-f64 `cast_shapes` for all \
+         pairs, event-driven; parry-step dt=1/N: fixed time step with swept-box sort \
+         and sweep and `cast_shapes` per candidate pair, up to 8 TOI sub-steps per step; dt is in \
+         the workload's time unit (in which polygons move about their own size: 1, \
+         and 1024 for far).\n\
+         - Wall time is the method's run on a built scene: for the kss library and \
+         sweep it includes building the exact world (with the contract's validation that \
+         no two polygons touch at time 0); the parry baselines build their own \
+         floating-point scene and validate nothing.\n\
+         - Plots: `*.svg` beside this file."
+    );
+    s
+}
+
+/// One line of a plot.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    /// `(x, y)` points, both positive.
+    pub points: Vec<(f64, f64)>,
+}
+
+fn xml(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+const COLOURS: [&str; 10] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf",
+    "#7f7f7f", "#bcbd22",
+];
+
+/// A log-log line plot as an SVG document.
+pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> String {
+    let (w, h) = (760.0, 460.0);
+    let (left, right, top, bottom) = (80.0, 210.0, 40.0, 55.0);
+    let pts = series.iter().flat_map(|s| s.points.iter()).copied();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
+    for (x, y) in pts.filter(|p| p.0 > 0.0 && p.1 > 0.0) {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if !x0.is_finite() {
+        (x0, x1, y0, y1) = (1.0, 10.0, 1.0, 10.0);
+    }
+    let (lx0, mut lx1) = (x0.log10().floor(), x1.log10().ceil());
+    let (ly0, mut ly1) = (y0.log10().floor(), y1.log10().ceil());
+    if lx1 <= lx0 {
+        lx1 = lx0 + 1.0;
+    }
+    if ly1 <= ly0 {
+        ly1 = ly0 + 1.0;
+    }
+    let pw = w - left - right;
+    let ph = h - top - bottom;
+    let px = |x: f64| left + (x.log10() - lx0) / (lx1 - lx0) * pw;
+    let py = |y: f64| top + ph - (y.log10() - ly0) / (ly1 - ly0) * ph;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="22" font-size="15" text-anchor="middle">{}</text>"#,
+        left + pw / 2.0,
+        xml(title)
+    );
+    // grid and ticks at powers of ten
+    let mut e = lx0;
+    while e <= lx1 + 1e-9 {
+        let x = px(10f64.powf(e));
+        let _ = writeln!(
+            s,
+            r##"<line x1="{x:.1}" y1="{top}" x2="{x:.1}" y2="{:.1}" stroke="#ddd"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">1e{}</text>"##,
+            top + ph,
+            top + ph + 16.0,
+            e as i64
+        );
+        e += 1.0;
+    }
+    let mut e = ly0;
+    while e <= ly1 + 1e-9 {
+        let y = py(10f64.powf(e));
+        let _ = writeln!(
+            s,
+            r##"<line x1="{left}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{:.1}" y="{:.1}" text-anchor="end">1e{}</text>"##,
+            left + pw,
+            left - 6.0,
+            y + 4.0,
+            e as i64
+        );
+        e += 1.0;
+    }
+    let _ = writeln!(
+        s,
+        r#"<rect x="{left}" y="{top}" width="{pw}" height="{ph}" fill="none" stroke="black"/>"#
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+        left + pw / 2.0,
+        h - 12.0,
+        xml(x_label)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text transform="translate(18 {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
+        top + ph / 2.0,
+        xml(y_label)
+    );
+    for (i, se) in series.iter().enumerate() {
+        let c = COLOURS[i % COLOURS.len()];
+        let mut p: Vec<(f64, f64)> = se
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .collect();
+        p.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if p.len() > 1 {
+            let path: Vec<String> = p
+                .iter()
+                .map(|&(x, y)| format!("{:.1},{:.1}", px(x), py(y)))
+                .collect();
+            let _ = writeln!(
+                s,
+                r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2"/>"#,
+                path.join(" ")
+            );
+        }
+        for &(x, y) in &p {
+            let _ = writeln!(
+                s,
+                r#"<circle cx="{:.1}" cy="{:.1}" r="3.5" fill="{c}"/>"#,
+                px(x),
+                py(y)
+            );
+        }
+        let ly = top + 10.0 + 20.0 * i as f64;
+        let lx = left + pw + 14.0;
+        let _ = writeln!(
+            s,
+            r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{c}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#,
+            lx + 22.0,
+            lx + 28.0,
+            ly + 4.0,
+            xml(&se.label)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// Wall-time series over the workloads selected by `pick` (which returns
+/// the x value), one per method that finished at least one of them.
+fn time_series(run: &BenchRun, pick: &dyn Fn(&Workload) -> Option<f64>) -> Vec<Series> {
+    run.methods
+        .iter()
+        .filter_map(|me| {
+            let points: Vec<(f64, f64)> = run
+                .workloads
+                .iter()
+                .filter_map(|w| {
+                    let x = pick(&Workload::parse(w).ok()?)?;
+                    let c = run.cell(w, me)?;
+                    (c.outcome.status == Status::Ok)
+                        .then_some((x, c.outcome.wall_seconds.max(1e-7)))
+                })
+                .collect();
+            (!points.is_empty()).then(|| Series {
+                label: method_label(me),
+                points,
+            })
+        })
+        .collect()
+}
+
+/// The plots of a run: `(file name, SVG)`.
+pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
+    let parsed: Vec<Workload> = run
+        .workloads
+        .iter()
+        .filter_map(|w| Workload::parse(w).ok())
+        .collect();
+    let mut out = Vec::new();
+    let ratios: Vec<f64> = parsed
+        .iter()
+        .filter_map(|w| match w {
+            Workload::Flypast { ratio, .. } => Some(*ratio),
+            _ => None,
+        })
+        .collect();
+    if let Some(r) = ratios.iter().copied().reduce(f64::max) {
+        let series = time_series(run, &|w| match w {
+            Workload::Flypast { n, ratio } if *ratio == r => Some(*n as f64),
+            _ => None,
+        });
+        out.push((
+            "flypast-time-vs-n.svg".into(),
+            loglog_plot(
+                &format!("flypast, D/s = {r:e}: wall time against n"),
+                "vertices per polygon n",
+                "wall time (s)",
+                &series,
+            ),
+        ));
+        let ns: Vec<usize> = parsed
+            .iter()
+            .filter_map(|w| match w {
+                Workload::Flypast { n, .. } => Some(*n),
+                _ => None,
+            })
+            .collect();
+        let dist = |n: usize| (n as f64 / 1024.0).log2().abs();
+        if let Some(n0) = ns
+            .iter()
+            .copied()
+            .min_by(|a, b| dist(*a).total_cmp(&dist(*b)))
+        {
+            let series = time_series(run, &|w| match w {
+                Workload::Flypast { n, ratio } if *n == n0 => Some(*ratio),
+                _ => None,
+            });
+            out.push((
+                "flypast-time-vs-gap.svg".into(),
+                loglog_plot(
+                    &format!("flypast, n = {n0}: wall time against D/s"),
+                    "D/s (diameter over gap)",
+                    "wall time (s)",
+                    &series,
+                ),
+            ));
+        }
+    }
+    let gas_n: Option<usize> = parsed
+        .iter()
+        .filter_map(|w| match w {
+            Workload::Gas { n, .. } => Some(*n),
+            _ => None,
+        })
+        .min();
+    if let Some(n0) = gas_n {
+        let series = time_series(run, &|w| match w {
+            Workload::Gas { k, n, .. } if *n == n0 => Some(*k as f64),
+            _ => None,
+        });
+        out.push((
+            "gas-time-vs-k.svg".into(),
+            loglog_plot(
+                &format!("gas (bounce), {n0}-gons: wall time against k"),
+                "polygons k",
+                "wall time (s)",
+                &series,
+            ),
+        ));
+    }
+    for (family, file) in [
+        ("cluster", "cluster-time-vs-k.svg"),
+        ("swarm", "swarm-time-vs-k.svg"),
+    ] {
+        let series = time_series(run, &|w| match w {
+            Workload::Cluster { k } if family == "cluster" => Some(*k as f64),
+            Workload::Swarm { k } if family == "swarm" => Some(*k as f64),
+            _ => None,
+        });
+        if !series.is_empty() {
+            out.push((
+                file.into(),
+                loglog_plot(
+                    &format!("{family} (remove): wall time against k"),
+                    "polygons k",
+                    "wall time (s)",
+                    &series,
+                ),
+            ));
+        }
+    }
+    out
+}
+
+/// Writes `bench.md`, `bench.json` and the plots into `dir`; returns the
+/// files written.
+pub fn write(dir: &Path, run: &BenchRun, m: &Machine) -> std::io::Result<Vec<PathBuf>> {
+    fs::create_dir_all(dir)?;
+    let mut files = Vec::new();
+    let md = dir.join("bench.md");
+    fs::write(&md, markdown(run, m))?;
+    files.push(md);
+    let json = dir.join("bench.json");
+    let value = serde_json::json!({ "machine": m, "run": run });
+    fs::write(
+        &json,
+        serde_json::to_string_pretty(&value).map_err(std::io::Error::other)? + "\n",
+    )?;
+    files.push(json);
+    for (name, svg) in plots(run) {
+        let p = dir.join(name);
+        fs::write(&p, svg)?;
+        files.push(p);
+    }
+    Ok(files)
+}

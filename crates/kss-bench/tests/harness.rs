@@ -1,0 +1,104 @@
+//! The harness end to end, in process, on tiny workloads: every cell runs,
+//! the exact methods agree with brute, and the report files are written.
+
+use kss_bench::harness::{self, Config, Executor, Progress, Status};
+use kss_bench::workload::Workload;
+use kss_bench::Method;
+
+#[test]
+fn tiny_run_writes_a_report() {
+    let out = std::env::temp_dir().join(format!("kss-bench-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let mut config = Config::new(true, &out);
+    config.workloads = vec![
+        Workload::Flypast { n: 16, ratio: 1e3 },
+        Workload::Gas {
+            k: 8,
+            n: 6,
+            collisions: 10,
+        },
+        Workload::Cluster { k: 16 },
+        Workload::Swarm { k: 20 },
+    ];
+    config.methods = Method::defaults();
+    let mut cells = 0;
+    let mut done = 0;
+    let run = harness::run(&config, &Executor::InProcess, &mut |p| match p {
+        Progress::Start { cells: c } => cells = c,
+        Progress::CellStart { .. } => {}
+        Progress::CellDone(_) => done += 1,
+    })
+    .unwrap();
+    assert_eq!(cells, 4 * config.methods.len());
+    assert_eq!(done, cells);
+    for w in &run.workloads {
+        assert_eq!(run.references.get(w).map(String::as_str), Some("brute"));
+        for m in ["brute", "sweep"] {
+            let c = run.cell(w, m).unwrap();
+            assert_eq!(c.outcome.status, Status::Ok, "{w} {m}");
+            assert!(c.comparison.as_ref().unwrap().identical, "{w} {m}");
+        }
+        for m in ["parry-toi", "parry-step:30", "parry-step:240"] {
+            let c = run.cell(w, m).unwrap();
+            assert_eq!(c.outcome.status, Status::Ok, "{w} {m}");
+            assert!(c.comparison.is_some(), "{w} {m}");
+        }
+        for m in ["plain", "hierarchical"] {
+            let c = run.cell(w, m).unwrap();
+            assert!(
+                matches!(c.outcome.status, Status::Ok | Status::NotImplemented),
+                "{w} {m}: {:?}",
+                c.outcome.status
+            );
+        }
+    }
+    let machine = kss_bench::report::machine();
+    let files = kss_bench::report::write(&out, &run, &machine).unwrap();
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("| cluster-k16 |"));
+    assert!(md.contains("parry-step dt=1/240"));
+    assert!(files
+        .iter()
+        .any(|f| f.extension().is_some_and(|e| e == "svg")));
+    for f in &files {
+        if f.extension().is_some_and(|e| e == "svg") {
+            let svg = std::fs::read_to_string(f).unwrap();
+            assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn names_round_trip() {
+    for w in Workload::full().into_iter().chain(Workload::quick()) {
+        assert_eq!(Workload::parse(&w.name()).unwrap(), w);
+    }
+    for m in Method::defaults() {
+        assert_eq!(Method::parse(&m.name()).unwrap(), m);
+    }
+    assert!(Method::parse("parry-step:0").is_err());
+    assert!(Workload::parse("gas-k10").is_err());
+}
+
+#[test]
+fn workloads_are_valid_scenarios() {
+    for w in Workload::quick() {
+        w.scenario().validate().unwrap();
+    }
+    for w in [
+        Workload::Cluster { k: 1000 },
+        Workload::Swarm { k: 1000 },
+        Workload::Gas {
+            k: 1000,
+            n: 64,
+            collisions: 1000,
+        },
+        Workload::Flypast {
+            n: 4096,
+            ratio: 1e6,
+        },
+    ] {
+        w.scenario().validate().unwrap();
+    }
+}
