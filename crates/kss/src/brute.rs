@@ -21,7 +21,7 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use crate::geom::{for_each_minkowski_edge, Point};
-use crate::num::{Int, Rational, Sign, Time};
+use crate::num::{lcm, Int, Rational, Sign, Time};
 use crate::world::{BodyId, World};
 
 /// How the reference computes a pair's contact interval.
@@ -93,15 +93,6 @@ pub fn contact_interval(
         PairMethod::Simple => simple_interval(world, a, b),
         PairMethod::Fast => fast_interval(world, a, b),
     }
-}
-
-fn lcm(a: &Int, b: &Int) -> Int {
-    use dashu_base::Gcd;
-    if a == b {
-        return a.clone();
-    }
-    let g = Int::from(a.gcd(b));
-    a / &g * b
 }
 
 /// Minkowski difference: `A(t) ∩ B(t) ≠ ∅` iff `d(t) ∈ M = B ⊕ (−A)`; each

@@ -10,7 +10,7 @@
 //! [`orient_poly`] needs only integer arithmetic.
 
 use crate::geom::{BodyPolygon, Point};
-use crate::num::{Int, Poly, Rational};
+use crate::num::{lcm, Int, Poly, Rational};
 
 /// One linear piece of a body's path: `position(t) = origin + velocity·t`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -108,15 +108,6 @@ impl Frame {
             w: self.w.clone(),
         }
     }
-}
-
-fn lcm(a: &Int, b: &Int) -> Int {
-    use dashu_base::Gcd;
-    if a == b {
-        return a.clone();
-    }
-    let g = Int::from(a.gcd(b));
-    a / &g * b
 }
 
 /// A point moving linearly: `((x0 + x1·t)/w, (y0 + y1·t)/w)`, integers, `w > 0`.

@@ -133,6 +133,16 @@ pub fn sign_a_plus_b_sqrt_plus_c_sqrt(a: &Int, b: &Int, d1: &Int, c: &Int, d2: &
     sx.mul(sign_a_plus_b_sqrt(&p, &q, d1))
 }
 
+/// The least common multiple of two positive integers.
+pub fn lcm(a: &Int, b: &Int) -> Int {
+    use dashu_base::Gcd;
+    if a == b {
+        return a.clone();
+    }
+    let g = Int::from(a.gcd(b));
+    a / &g * b
+}
+
 static FILTER_DECIDED: AtomicU64 = AtomicU64::new(0);
 static EXACT_DECIDED: AtomicU64 = AtomicU64::new(0);
 

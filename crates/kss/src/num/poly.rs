@@ -7,7 +7,7 @@
 //! integers: callers scale rational coefficients by a positive factor, which
 //! changes neither the signs nor the roots.
 
-use super::{count_exact, count_filtered, Int, Interval, Rational, Sign, Time};
+use super::{count_exact, count_filtered, lcm, Int, Interval, Rational, Sign, Time};
 
 /// `c0 + c1·t + c2·t²` with integer coefficients.
 #[derive(Clone, Debug)]
@@ -205,15 +205,6 @@ impl PartialEq for Poly {
 }
 
 impl Eq for Poly {}
-
-fn lcm(a: &Int, b: &Int) -> Int {
-    use dashu_base::Gcd;
-    if a == b {
-        return a.clone();
-    }
-    let g = Int::from(a.gcd(b));
-    a / &g * b
-}
 
 trait UnsignedBits {
     fn unsigned_bits(&self) -> usize;
