@@ -135,18 +135,7 @@ impl Sweep {
             .bodies()
             .iter()
             .map(|b| {
-                let mut bx = [
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                ];
-                for v in b.shape.f64_vertices() {
-                    bx[0] = bx[0].min(v[0]);
-                    bx[1] = bx[1].max(v[0]);
-                    bx[2] = bx[2].min(v[1]);
-                    bx[3] = bx[3].max(v[1]);
-                }
+                let bx = b.shape.bounds();
                 bx.map(|c| Rational::from_f64(c).expect("finite vertex"))
             })
             .collect();

@@ -246,6 +246,24 @@ impl BodyPolygon {
         &self.f64s
     }
 
+    /// The body-frame bounding box `[min x, max x, min y, max y]` (exact:
+    /// the coordinates are the given doubles).
+    pub fn bounds(&self) -> [f64; 4] {
+        let mut bx = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for v in &self.f64s {
+            bx[0] = bx[0].min(v[0]);
+            bx[1] = bx[1].max(v[0]);
+            bx[2] = bx[2].min(v[1]);
+            bx[3] = bx[3].max(v[1]);
+        }
+        bx
+    }
+
     /// Twice the signed area, exactly.
     pub fn twice_area(&self) -> Rational {
         let n = self.len();

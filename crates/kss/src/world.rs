@@ -275,18 +275,7 @@ impl World {
             .map(|b| {
                 let p = b.traj.position_at(&zero);
                 let (piv_x, piv_y) = (p.x.interval(), p.y.interval());
-                let mut bx = [
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                ];
-                for v in b.shape.f64_vertices() {
-                    bx[0] = bx[0].min(v[0]);
-                    bx[1] = bx[1].max(v[0]);
-                    bx[2] = bx[2].min(v[1]);
-                    bx[3] = bx[3].max(v[1]);
-                }
+                let bx = b.shape.bounds();
                 [
                     (bx[0] + piv_x.lo).next_down(),
                     (bx[1] + piv_x.hi).next_up(),
