@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use crate::brute::{Brute, PairMethod};
 use crate::num::{Rational, Time};
 use crate::scenario::{CollisionMode, Scenario, ScenarioError};
+use crate::structure::engine::{Kinetic, Step};
 use crate::world::{BodyId, World};
 
 /// Which kinetic structure computes the collisions.
@@ -209,7 +210,132 @@ fn make_engine(world: &World, options: &RunOptions) -> Result<Box<dyn Engine>, R
             world,
             options.pair_method,
         )))),
+        StructureKind::Plain => Ok(Box::new(PlainEngine::new(world, options.audit)?)),
         other => Err(RunError::NotImplemented(other.name())),
+    }
+}
+
+/// The kinetic separation structure without the hierarchy.
+struct PlainEngine {
+    k: Kinetic,
+    /// Audit after every internal event too (not only after collisions and
+    /// flight-plan changes).
+    audit: bool,
+}
+
+impl PlainEngine {
+    fn new(world: &World, audit: bool) -> Result<PlainEngine, RunError> {
+        let k = Kinetic::new(world, &Rational::zero()).map_err(RunError::Internal)?;
+        Ok(PlainEngine { k, audit })
+    }
+
+    fn audit_now(&self, world: &World, now: &Time) -> Result<(), RunError> {
+        let mut next = world.until().clone();
+        for t in [self.k.next_time(), world.next_change_time()]
+            .into_iter()
+            .flatten()
+        {
+            if *t < next {
+                next = t.clone();
+            }
+        }
+        if *now >= next {
+            return Ok(());
+        }
+        let at = now.rational_between(&next);
+        self.k.audit(world, now, &at).map_err(|e| {
+            RunError::Internal(format!(
+                "audit failed after an internal event at t = {now}: {e}"
+            ))
+        })
+    }
+}
+
+impl Engine for PlainEngine {
+    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
+        let mut contacts: Vec<(BodyId, BodyId)> = Vec::new();
+        let mut at: Option<Time> = None;
+        let mut ops_now = 0u64;
+        let mut last: Option<Time> = None;
+        loop {
+            if let Some(a) = &at {
+                if self.k.next_time() != Some(a) {
+                    break;
+                }
+            }
+            match self
+                .k
+                .step(world, limit, &contacts)
+                .map_err(RunError::Internal)?
+            {
+                Step::Idle => break,
+                Step::Contact(t, a, b) => {
+                    let pair = (a.min(b), a.max(b));
+                    if !contacts.contains(&pair) {
+                        contacts.push(pair);
+                    }
+                    at = Some(t);
+                }
+                Step::Deferred(_) => {}
+                Step::Internal(t) => {
+                    if last.as_ref() == Some(&t) {
+                        ops_now += 1;
+                        if ops_now > 64 * (world.len() as u64 + 16) {
+                            return Err(RunError::Internal(format!(
+                                "no progress: {ops_now} operations at t = {t}"
+                            )));
+                        }
+                    } else {
+                        ops_now = 0;
+                        last = Some(t.clone());
+                    }
+                    if self.audit && contacts.is_empty() {
+                        self.audit_now(world, &t)?;
+                    }
+                }
+            }
+        }
+        Ok(at.map(|t| (t, contacts)))
+    }
+
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        _reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        if bodies.iter().any(|&b| !world.body(b).alive) {
+            let t = now
+                .as_rational()
+                .ok_or_else(|| RunError::Internal("irrational world time".into()))?;
+            self.k.rebuild(world, t).map_err(RunError::Internal)?;
+            *self.k.counts.entry("rebuild").or_default() += 1;
+        } else {
+            self.k.motion_changed(world, now, bodies);
+        }
+        Ok(())
+    }
+
+    fn next_time(&self) -> Option<Time> {
+        self.k.next_time().cloned()
+    }
+
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        self.k.audit(world, now, at)
+    }
+
+    fn certificates(&self) -> (u64, u64) {
+        let (now, max) = self.k.active();
+        (now as u64, max as u64)
+    }
+
+    fn internal_events(&self) -> BTreeMap<String, u64> {
+        self.k
+            .counts
+            .iter()
+            .map(|(k, v)| (k.to_string(), *v))
+            .collect()
     }
 }
 

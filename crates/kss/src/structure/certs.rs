@@ -45,7 +45,7 @@ pub struct Cert {
 impl Cert {
     /// The same certificate with its triple rotated so that the smallest
     /// point comes first (rotation keeps the orientation).
-    fn canonical(self) -> Cert {
+    pub fn canonical(self) -> Cert {
         let m = (0..3).min_by_key(|&i| self.p[i]).expect("three points");
         Cert {
             p: [self.p[m], self.p[(m + 1) % 3], self.p[(m + 2) % 3]],
@@ -138,7 +138,7 @@ impl Kss {
     }
 
     /// The corner of triangle `t` that is neither `ω` nor `a`.
-    fn other_finite_corner(&self, t: super::TriId, a: Att) -> Att {
+    pub fn other_finite_corner(&self, t: super::TriId, a: Att) -> Att {
         *self.tris[t.0 as usize]
             .c
             .iter()

@@ -1,25 +1,38 @@
-//! The kinetic engine's certificate bookkeeping: every certificate of the
-//! structure scheduled in the event queue at its exact failure time, updated
-//! when flight plans change, and audited against a from-scratch recomputation.
-//!
-//! (Event processing, the operations of `ARCHITECTURE.md`, is the next step of
-//! issue 3.)
+//! The kinetic engine: every certificate of the structure scheduled in the
+//! event queue at its exact failure time; failures popped in time order and
+//! either reported as collisions or repaired by a local operation
+//! (`ops`), after which only the touched corridors and triangles get new
+//! certificates; flight-plan changes reschedule only the certificates of the
+//! bodies involved; and an audit against a from-scratch recomputation.
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::certs::Cert;
-use super::{Att, Kss, Obj};
+use super::events::{classify, nearby_contact, Failure};
+use super::ops::{Outcome, Owner};
+use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::orient_poly;
 use crate::num::{Poly, Rational, Sign, Time};
 use crate::sim::{EventKey, EventQueue};
 use crate::world::{BodyId, World};
 
-/// A certificate and where it sits in the queue.
+/// Debug tracing of every failure (`--features trace`; the library does no
+/// IO otherwise).
+macro_rules! trace {
+    ($($arg:tt)*) => {
+        #[cfg(feature = "trace")]
+        eprintln!($($arg)*);
+    };
+}
+
+/// A certificate, where it sits in the queue, and who owns it.
 #[derive(Clone, Debug)]
 struct Scheduled {
     cert: Cert,
-    /// `None` when the certificate never fails on the current motions.
+    /// `None` when the certificate never fails on the current motions, or
+    /// while it waits (a contact reported at the current instant).
     key: Option<EventKey>,
+    owners: Vec<Owner>,
 }
 
 /// The structure with its certificates scheduled.
@@ -28,8 +41,19 @@ pub struct Kinetic {
     /// The combinatorial structure.
     pub kss: Kss,
     certs: BTreeMap<[Att; 3], Scheduled>,
+    owned_tri: Vec<Vec<[Att; 3]>>,
+    owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,
     max_active: usize,
+    /// Certificates popped at the current instant and set aside: contacts
+    /// (the collision response changes the motions) and failures next to a
+    /// contact. Rescheduled by [`Kinetic::motion_changed`].
+    waiting: Vec<[Att; 3]>,
+    /// Popped failures of the current instant that wait until every possible
+    /// contact of the instant has been classified.
+    later: Option<(Time, Vec<[Att; 3]>)>,
+    /// Internal events by kind.
+    pub counts: BTreeMap<&'static str, u64>,
 }
 
 /// The certificate function of `c`, oriented so that it is positive while
@@ -58,53 +82,135 @@ pub fn failure_time(world: &World, c: &Cert, now: &Time) -> Option<Time> {
     p.first_failure_after(now)
 }
 
+/// Order among failures at one instant: a vertex against another body's
+/// polygon edge (a possible contact) comes first, so that every contact of an
+/// instant is known before the structure changes around it.
+fn tie(world: &World, p: &[Att; 3]) -> u64 {
+    for i in 0..3 {
+        let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
+        if x.obj == y.obj && z.obj != x.obj {
+            if let Obj::Body(b) = x.obj {
+                let n = world.body(b).shape.len() as u32;
+                if (x.v + 1) % n == y.v || (y.v + 1) % n == x.v {
+                    return 0;
+                }
+            }
+        }
+    }
+    1
+}
+
+/// What one step of the engine did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// No failure at or before the limit.
+    Idle,
+    /// A structural event at this time.
+    Internal(Time),
+    /// Two bodies touch at this time.
+    Contact(Time, BodyId, BodyId),
+    /// A failure at this time next to a contact, set aside.
+    Deferred(Time),
+}
+
 impl Kinetic {
     /// Build the structure at time `t` and schedule its certificates.
     pub fn new(world: &World, t: &Rational) -> Result<Kinetic, String> {
-        let mut kss = super::build::build(world, t).map_err(|e| e.to_string())?;
-        let now = Time::from_rational(t.clone());
-        kss.place_middle_bridges(world, &now);
+        let kss = super::build::build(world, t).map_err(|e| e.to_string())?;
         let mut k = Kinetic {
             kss,
             ..Default::default()
         };
-        k.reschedule_all(world, &now)?;
+        let now = Time::from_rational(t.clone());
+        k.kss.place_middle_bridges(world, &now);
+        k.schedule_everything(world, &now)?;
         Ok(k)
     }
 
-    /// Recompute the certificate set and (re)schedule whatever changed.
-    pub fn reschedule_all(&mut self, world: &World, now: &Time) -> Result<(), String> {
-        let fresh: BTreeMap<[Att; 3], Cert> = self
-            .kss
-            .certificates(world, now)?
-            .into_iter()
-            .map(|c| (c.p, c))
-            .collect();
-        let stale: Vec<[Att; 3]> = self
-            .certs
-            .keys()
-            .filter(|p| {
-                fresh
-                    .get(*p)
-                    .is_none_or(|c| c.sign != self.certs[*p].cert.sign)
-            })
-            .copied()
-            .collect();
-        for p in stale {
-            self.drop_cert(&p);
-        }
-        for (p, c) in fresh {
-            if !self.certs.contains_key(&p) {
-                self.add_cert(world, c, now);
+    /// Rebuild the structure from scratch at `t` (after polygons were removed)
+    /// and schedule its certificates.
+    pub fn rebuild(&mut self, world: &World, t: &Rational) -> Result<(), String> {
+        let counts = std::mem::take(&mut self.counts);
+        let max_active = self.max_active;
+        *self = Kinetic::new(world, t)?;
+        self.counts = counts;
+        self.max_active = self.max_active.max(max_active);
+        Ok(())
+    }
+
+    fn schedule_everything(&mut self, world: &World, now: &Time) -> Result<(), String> {
+        self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
+        self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
+        for ki in 0..self.kss.corrs.len() {
+            let steps = self.kss.normalize(world, CorrId(ki as u32), now, None)?;
+            if steps > 0 {
+                *self.counts.entry("repair").or_default() += 1;
             }
+        }
+        for ti in 0..self.kss.tris.len() {
+            self.refresh(world, Owner::Tri(TriId(ti as u32)), now)?;
+        }
+        for ki in 0..self.kss.corrs.len() {
+            self.refresh(world, Owner::Corr(CorrId(ki as u32)), now)?;
         }
         Ok(())
     }
 
-    fn add_cert(&mut self, world: &World, c: Cert, now: &Time) {
-        let key = failure_time(world, &c, now).map(|t| self.queue.schedule(t, 0, c.p));
-        self.certs.insert(c.p, Scheduled { cert: c, key });
+    /// Recompute the certificates owned by `o` at `now`: drop the ones it no
+    /// longer owns, schedule the new ones.
+    fn refresh(&mut self, world: &World, o: Owner, now: &Time) -> Result<(), String> {
+        let fresh = match o {
+            Owner::Tri(t) => self.kss.triangle_certs(t),
+            Owner::Corr(k) => self.kss.corridor_certs(world, k, now),
+        };
+        let old = match o {
+            Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
+            Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
+        };
+        for p in &old {
+            let Some(s) = self.certs.get_mut(p) else {
+                continue;
+            };
+            s.owners.retain(|&x| x != o);
+            if s.owners.is_empty() {
+                self.drop_cert(p);
+            }
+        }
+        let mut mine = Vec::with_capacity(fresh.len());
+        for c in fresh {
+            match self.certs.get_mut(&c.p) {
+                Some(s) if s.cert.sign != c.sign => {
+                    return Err(format!(
+                        "contradictory certificates on {:?} ({:?} and {:?})",
+                        c.p, s.owners, o
+                    ));
+                }
+                Some(s) => {
+                    if !s.owners.contains(&o) {
+                        s.owners.push(o);
+                    }
+                }
+                None => {
+                    let key = failure_time(world, &c, now)
+                        .map(|t| self.queue.schedule(t, tie(world, &c.p), c.p));
+                    self.certs.insert(
+                        c.p,
+                        Scheduled {
+                            cert: c,
+                            key,
+                            owners: vec![o],
+                        },
+                    );
+                }
+            }
+            mine.push(c.p);
+        }
+        match o {
+            Owner::Tri(t) => self.owned_tri[t.0 as usize] = mine,
+            Owner::Corr(k) => self.owned_corr[k.0 as usize] = mine,
+        }
         self.max_active = self.max_active.max(self.queue.len());
+        Ok(())
     }
 
     fn drop_cert(&mut self, p: &[Att; 3]) {
@@ -115,26 +221,190 @@ impl Kinetic {
         }
     }
 
+    fn reschedule(&mut self, world: &World, p: &[Att; 3], now: &Time) {
+        if let Some(s) = self.certs.get_mut(p) {
+            if let Some(k) = s.key.take() {
+                self.queue.cancel(k);
+            }
+            let c = s.cert;
+            s.key =
+                failure_time(world, &c, now).map(|t| self.queue.schedule(t, tie(world, &c.p), c.p));
+        }
+        self.max_active = self.max_active.max(self.queue.len());
+    }
+
     /// Bodies changed their motion at `now`: reschedule every certificate
-    /// that involves one of them (flight-plan changes are local).
+    /// that involves one of them (flight-plan changes are local), and the
+    /// certificates set aside at this instant.
     pub fn motion_changed(&mut self, world: &World, now: &Time, bodies: &[BodyId]) {
         let set: BTreeSet<Obj> = bodies.iter().map(|&b| Obj::Body(b)).collect();
-        let touched: Vec<[Att; 3]> = self
-            .certs
-            .keys()
-            .filter(|p| p.iter().any(|a| set.contains(&a.obj)))
-            .copied()
-            .collect();
+        let mut touched: Vec<[Att; 3]> = if set.is_empty() {
+            Vec::new()
+        } else {
+            self.certs
+                .keys()
+                .filter(|p| p.iter().any(|a| set.contains(&a.obj)))
+                .copied()
+                .collect()
+        };
+        touched.append(&mut self.waiting);
         for p in touched {
-            let c = self.certs[&p].cert;
-            self.drop_cert(&p);
-            self.add_cert(world, c, now);
+            self.reschedule(world, &p, now);
         }
+    }
+
+    /// Pop and handle the earliest failure if it is at most `limit`.
+    ///
+    /// At one instant, every failure that could be a contact (a vertex
+    /// against another body's polygon edge) is classified before any
+    /// structural operation: the contacts are reported, and failures that
+    /// involve a body in contact at this instant are set aside until the
+    /// collision response has changed the motions (`contacts` lists the pairs
+    /// found so far at this instant).
+    pub fn step(
+        &mut self,
+        world: &World,
+        limit: &Time,
+        contacts: &[(BodyId, BodyId)],
+    ) -> Result<Step, String> {
+        let head = self
+            .queue
+            .peek()
+            .map(|(key, t, tie, &p)| (key, t.clone(), tie, p));
+        let use_later = match (&self.later, &head) {
+            (None, _) => false,
+            (Some(_), None) => true,
+            (Some((lt, _)), Some((_, t, tie, _))) => t > lt || *tie > 0,
+        };
+        if use_later {
+            let (t, ps) = self.later.as_mut().expect("checked");
+            let t = t.clone();
+            let p = ps.pop().expect("non-empty");
+            if ps.is_empty() {
+                self.later = None;
+            }
+            return self.handle(world, p, t, contacts);
+        }
+        let Some((key, t, tie, p)) = head else {
+            return Ok(Step::Idle);
+        };
+        if &t > limit {
+            return Ok(Step::Idle);
+        }
+        self.queue.pop();
+        let s = self
+            .certs
+            .get_mut(&p)
+            .ok_or_else(|| format!("queued certificate {p:?} unknown"))?;
+        if s.key != Some(key) {
+            return Err(format!("certificate {p:?} scheduled twice"));
+        }
+        s.key = None;
+        trace!(
+            "pop t={} tie {tie} {:?} {:?}",
+            t.to_f64(),
+            s.cert.p,
+            s.owners
+        );
+        if tie == 0 {
+            let cert = s.cert;
+            if let Failure::Contact { a, b } = classify(world, &cert, &t) {
+                self.waiting.push(p);
+                return Ok(Step::Contact(t, a, b));
+            }
+            if let Some((a, b)) = nearby_contact(world, &p, &t) {
+                self.waiting.push(p);
+                return Ok(Step::Contact(t, a, b));
+            }
+            match &mut self.later {
+                Some((_, ps)) => ps.push(p),
+                None => self.later = Some((t.clone(), vec![p])),
+            }
+            return Ok(Step::Deferred(t));
+        }
+        self.handle(world, p, t, contacts)
+    }
+
+    /// Handle the failure of the (popped) certificate on `p` at `t`.
+    fn handle(
+        &mut self,
+        world: &World,
+        p: [Att; 3],
+        t: Time,
+        contacts: &[(BodyId, BodyId)],
+    ) -> Result<Step, String> {
+        let Some(s) = self.certs.get(&p) else {
+            return Ok(Step::Deferred(t)); // replaced by an earlier operation
+        };
+        if s.key.is_some() {
+            return Ok(Step::Deferred(t)); // rescheduled meanwhile
+        }
+        let cert = s.cert;
+        let owners = s.owners.clone();
+        if cert_poly(world, &cert).sign_after(&t) == Sign::Positive {
+            // an operation at this instant made it hold again
+            self.reschedule(world, &p, &t);
+            return Ok(Step::Deferred(t));
+        }
+        trace!(
+            "handle t={} {:?} {:?} -> {:?}",
+            t.to_f64(),
+            cert.p,
+            owners,
+            classify(world, &cert, &t)
+        );
+        match classify(world, &cert, &t) {
+            Failure::Contact { a, b } => {
+                self.waiting.push(p);
+                Ok(Step::Contact(t, a, b))
+            }
+            Failure::Between { middle, .. } => {
+                let near_contact = contacts.iter().any(|&(a, b)| {
+                    p.iter()
+                        .any(|x| x.obj == Obj::Body(a) || x.obj == Obj::Body(b))
+                });
+                if near_contact {
+                    self.waiting.push(p);
+                    return Ok(Step::Deferred(t));
+                }
+                let owner = *owners.first().ok_or("certificate without owner")?;
+                let out = self.kss.process(world, owner, p, middle, &t)?;
+                self.apply(world, out, &t)?;
+                // a certificate that outlived the operation unchanged fails
+                // again if it is still wrong just after t
+                if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                    self.reschedule(world, &p, &t);
+                }
+                Ok(Step::Internal(t))
+            }
+        }
+    }
+
+    fn apply(&mut self, world: &World, out: Outcome, t: &Time) -> Result<(), String> {
+        *self.counts.entry(out.kind).or_default() += 1;
+        let mut corrs = out.corrs;
+        corrs.sort();
+        corrs.dedup();
+        for &k in &corrs {
+            if self.kss.normalize(world, k, t, None)? > 0 {
+                *self.counts.entry("repair").or_default() += 1;
+            }
+        }
+        for tri in out.tris {
+            self.refresh(world, Owner::Tri(tri), t)?;
+        }
+        for k in corrs {
+            self.refresh(world, Owner::Corr(k), t)?;
+        }
+        Ok(())
     }
 
     /// The earliest scheduled failure, if any.
     pub fn next_time(&self) -> Option<&Time> {
-        self.queue.peek().map(|(_, t, _, _)| t)
+        match &self.later {
+            Some((t, _)) => Some(t),
+            None => self.queue.peek().map(|(_, t, _, _)| t),
+        }
     }
 
     /// Certificates that can fail (scheduled) now, and at most so far.
@@ -157,10 +427,14 @@ impl Kinetic {
         self.kss.check_faces(world, &at_t)?;
         let fresh = self.kss.certificates(world, &at_t)?;
         if fresh.len() != self.certs.len() {
+            let have: BTreeSet<_> = self.certs.keys().collect();
+            let want: BTreeSet<_> = fresh.iter().map(|c| &c.p).collect();
             return Err(format!(
-                "{} certificates kept, {} expected",
+                "{} certificates kept, {} expected (extra {:?}, missing {:?})",
                 self.certs.len(),
-                fresh.len()
+                fresh.len(),
+                have.difference(&want).take(3).collect::<Vec<_>>(),
+                want.difference(&have).take(3).collect::<Vec<_>>(),
             ));
         }
         let mut scheduled = 0;

@@ -61,13 +61,18 @@ pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
     match middle_of_collinear([&pts[0], &pts[1], &pts[2]], t) {
         None => {
             // two of the points coincide: vertices of two different bodies
-            let (x, y) = if c.p[0].obj != c.p[1].obj {
-                (c.p[0], c.p[1])
-            } else if c.p[1].obj != c.p[2].obj {
-                (c.p[1], c.p[2])
-            } else {
-                (c.p[0], c.p[2])
+            let coincide = |i: usize, j: usize| {
+                c.p[i].obj != c.p[j].obj
+                    && t.as_rational().is_none_or(|r| {
+                        let pos = |a: Att| super::build::position(world, a, r).expect("finite");
+                        pos(c.p[i]) == pos(c.p[j])
+                    })
             };
+            let (x, y) = [(0, 1), (1, 2), (0, 2)]
+                .into_iter()
+                .find(|&(i, j)| coincide(i, j))
+                .map(|(i, j)| (c.p[i], c.p[j]))
+                .unwrap_or((c.p[0], c.p[1]));
             Failure::Contact {
                 a: body(x),
                 b: body(y),
@@ -88,6 +93,44 @@ pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
             }
         }
     }
+}
+
+/// For a failure of a vertex against the line of another body's polygon
+/// edge that is not itself a contact (the vertex is beyond an end of the
+/// edge), whether the two bodies nevertheless touch at `t` right there: a
+/// vertex of one in a closed edge of the other among the edges and vertices
+/// next to the failing triple. This catches flush edge-against-edge contacts,
+/// where every vertex reaches the other's line at once and the structure's
+/// certificates may all report "beyond the end". `t` must be rational (such
+/// certificates are linear).
+pub fn nearby_contact(world: &World, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
+    let t = t.as_rational()?;
+    // the vertex z of one body and an edge endpoint x of the other
+    let (z, x) = (0..3).find_map(|i| {
+        let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
+        (x.obj == y.obj && z.obj != x.obj && is_edge(world, x, y)).then_some((z, x))
+    })?;
+    let near = |a: Att| {
+        let n = world.body(body(a)).shape.len() as u32;
+        [(a.v + n - 1) % n, a.v, (a.v + 1) % n].map(|v| Att { obj: a.obj, v })
+    };
+    let pos = |a: Att| super::build::position(world, a, t).expect("finite");
+    let touches = |u: Att, e0: Att, e1: Att| {
+        let (pu, p0, p1) = (pos(u), pos(e0), pos(e1));
+        crate::geom::orient(&p0, &p1, &pu) == crate::num::Sign::Zero
+            && p0.sub(&pu).dot(&p1.sub(&pu)).sign() != crate::num::Sign::Positive
+    };
+    for (a, b) in [(z, x), (x, z)] {
+        let nb = near(b);
+        for u in near(a) {
+            for e in [(nb[0], nb[1]), (nb[1], nb[2])] {
+                if touches(u, e.0, e.1) {
+                    return Some((body(a), body(b)));
+                }
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]

@@ -30,6 +30,8 @@ pub mod certs;
 pub mod engine;
 pub mod events;
 pub mod faces;
+pub mod local;
+pub mod ops;
 
 use crate::world::BodyId;
 
