@@ -29,6 +29,11 @@ pub enum CertKind {
     Junction,
     /// Convexity of the hull at a hull-bridge end.
     HullTurn,
+    /// Three points that stay on one line (a junction or hull turn that is
+    /// identically straight, as when a polygon slides along another's edge):
+    /// `p[1]` stays strictly between `p[0]` and `p[2]`. It fails only when
+    /// two of them meet.
+    Order,
 }
 
 /// A certificate: the turn `orient(p[0], p[1], p[2])` keeps the sign `sign`.
@@ -46,12 +51,43 @@ impl Cert {
     /// The same certificate with its triple rotated so that the smallest
     /// point comes first (rotation keeps the orientation).
     pub fn canonical(self) -> Cert {
+        if self.kind == CertKind::Order {
+            let [a, m, b] = self.p;
+            return Cert {
+                p: [a.min(b), m, a.max(b)],
+                ..self
+            };
+        }
         let m = (0..3).min_by_key(|&i| self.p[i]).expect("three points");
         Cert {
             p: [self.p[m], self.p[(m + 1) % 3], self.p[(m + 2) % 3]],
             ..self
         }
     }
+}
+
+/// The order certificate of three points that stay on one line (their turn
+/// is identically zero): whichever is strictly between the other two just
+/// after `t` stays so. `None` if two of them coincide.
+pub fn order_cert(world: &World, p: [Att; 3], t: &Time) -> Option<Cert> {
+    let lp = |a: Att| match a.obj {
+        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Omega => unreachable!("finite points"),
+    };
+    let pts = p.map(lp);
+    (0..3).find_map(|m| {
+        let (a, b) = ((m + 1) % 3, (m + 2) % 3);
+        (crate::motion::dot_poly(&pts[m], &pts[a], &pts[b]).sign_after(t) == Sign::Negative).then(
+            || {
+                Cert {
+                    p: [p[a], p[m], p[b]],
+                    sign: Sign::Positive,
+                    kind: CertKind::Order,
+                }
+                .canonical()
+            },
+        )
+    })
 }
 
 impl Kss {
@@ -108,7 +144,9 @@ impl Kss {
                             sign: Sign::Positive,
                             kind: CertKind::HullTurn,
                         })?;
-                    } // else: three hull points on a line for ever
+                    } else if let Some(c) = order_cert(world, p, t) {
+                        add(c)?; // three hull points on a line for ever
+                    }
                 }
                 continue;
             }
@@ -130,6 +168,8 @@ impl Kss {
                             sign,
                             kind: CertKind::Junction,
                         })?;
+                    } else if let Some(c) = order_cert(world, p, t) {
+                        add(c)?;
                     }
                 }
             }

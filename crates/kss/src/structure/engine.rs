@@ -63,6 +63,9 @@ pub fn cert_poly(world: &World, c: &Cert) -> Poly {
         Obj::Body(b) => world.body(b).vertex(a.v as usize),
         Obj::Omega => unreachable!("certificates have finite points"),
     };
+    if c.kind == super::certs::CertKind::Order {
+        return crate::motion::dot_poly(&lp(c.p[1]), &lp(c.p[0]), &lp(c.p[2])).neg();
+    }
     let p = orient_poly(&lp(c.p[0]), &lp(c.p[1]), &lp(c.p[2]));
     if c.sign == Sign::Negative {
         p.neg()
@@ -100,6 +103,55 @@ fn tie(world: &World, p: &[Att; 3]) -> u64 {
     1
 }
 
+/// The pairs in contact at `t` for a contact failure of triple `p` between
+/// `a` and `b`: that pair, and any other pair of the triple's bodies that
+/// touches at `t` too (three polygons meeting at one point need not have a
+/// certificate that involves all three).
+fn contact_pairs(
+    world: &World,
+    p: &[Att; 3],
+    t: &Time,
+    a: BodyId,
+    b: BodyId,
+    third: Option<BodyId>,
+) -> Vec<(BodyId, BodyId)> {
+    let mut v = vec![(a, b)];
+    if let Some(c) = third {
+        v.push((a, c));
+        v.push((b, c));
+        return v;
+    }
+    let Some(r) = t.as_rational() else {
+        return v;
+    };
+    let bodies: BTreeSet<BodyId> = p
+        .iter()
+        .filter_map(|x| match x.obj {
+            Obj::Body(b) => Some(b),
+            Obj::Omega => None,
+        })
+        .collect();
+    let bodies: Vec<BodyId> = bodies.into_iter().collect();
+    for i in 0..bodies.len() {
+        for j in i + 1..bodies.len() {
+            let (x, y) = (bodies[i], bodies[j]);
+            if (x, y) == (a.min(b), a.max(b)) {
+                continue;
+            }
+            let (bx, by) = (world.body(x), world.body(y));
+            if crate::geom::placed_polygons_intersect(
+                &bx.shape,
+                &bx.traj.position_at(r),
+                &by.shape,
+                &by.traj.position_at(r),
+            ) {
+                v.push((x, y));
+            }
+        }
+    }
+    v
+}
+
 /// What one step of the engine did.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Step {
@@ -108,7 +160,7 @@ pub enum Step {
     /// A structural event at this time.
     Internal(Time),
     /// Two bodies touch at this time.
-    Contact(Time, BodyId, BodyId),
+    Contact(Time, Vec<(BodyId, BodyId)>),
     /// A failure at this time next to a contact, set aside.
     Deferred(Time),
 }
@@ -308,13 +360,14 @@ impl Kinetic {
         );
         if tie == 0 {
             let cert = s.cert;
-            if let Failure::Contact { a, b } = classify(world, &cert, &t) {
+            if let Failure::Contact { a, b, third } = classify(world, &cert, &t) {
                 self.waiting.push(p);
-                return Ok(Step::Contact(t, a, b));
+                let pairs = contact_pairs(world, &p, &t, a, b, third);
+                return Ok(Step::Contact(t, pairs));
             }
             if let Some((a, b)) = nearby_contact(world, &p, &t) {
                 self.waiting.push(p);
-                return Ok(Step::Contact(t, a, b));
+                return Ok(Step::Contact(t, vec![(a, b)]));
             }
             match &mut self.later {
                 Some((_, ps)) => ps.push(p),
@@ -354,9 +407,10 @@ impl Kinetic {
             classify(world, &cert, &t)
         );
         match classify(world, &cert, &t) {
-            Failure::Contact { a, b } => {
+            Failure::Contact { a, b, third } => {
                 self.waiting.push(p);
-                Ok(Step::Contact(t, a, b))
+                let pairs = contact_pairs(world, &p, &t, a, b, third);
+                Ok(Step::Contact(t, pairs))
             }
             Failure::Between { middle, .. } => {
                 let near_contact = contacts.iter().any(|&(a, b)| {

@@ -21,6 +21,9 @@ pub enum Failure {
         a: BodyId,
         /// The other.
         b: BodyId,
+        /// A third body whose vertex coincides with both (three polygons
+        /// meeting at one point).
+        third: Option<BodyId>,
     },
     /// `middle` lies strictly between `ends`, which are not a polygon edge of
     /// another body (a vertex meeting a bridge, or a straight junction).
@@ -68,14 +71,19 @@ pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
                         pos(c.p[i]) == pos(c.p[j])
                     })
             };
-            let (x, y) = [(0, 1), (1, 2), (0, 2)]
+            let found: Vec<(usize, usize)> = [(0, 1), (1, 2), (0, 2)]
                 .into_iter()
-                .find(|&(i, j)| coincide(i, j))
-                .map(|(i, j)| (c.p[i], c.p[j]))
+                .filter(|&(i, j)| coincide(i, j))
+                .collect();
+            let (x, y) = found
+                .first()
+                .map(|&(i, j)| (c.p[i], c.p[j]))
                 .unwrap_or((c.p[0], c.p[1]));
+            let third = (found.len() == 3).then(|| body(c.p[2]));
             Failure::Contact {
                 a: body(x),
                 b: body(y),
+                third,
             }
         }
         Some(m) => {
@@ -84,6 +92,7 @@ pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
                 Failure::Contact {
                     a: body(middle),
                     b: body(x),
+                    third: None,
                 }
             } else {
                 Failure::Between {
@@ -167,7 +176,14 @@ mod tests {
             kind: CertKind::Junction,
         };
         let t = Time::from_f64(2.0).unwrap();
-        assert_eq!(classify(&w, &cert, &t), Failure::Contact { a: b, b: a });
+        assert_eq!(
+            classify(&w, &cert, &t),
+            Failure::Contact {
+                a: b,
+                b: a,
+                third: None
+            }
+        );
         // the other way round: a's vertex 2 at (1, 1) lies inside b's edge
         // 3 → 0 (x = 1, y from 1.5 to 0.5) at t = 2
         let cert2 = Cert {
@@ -175,6 +191,9 @@ mod tests {
             sign: Sign::Positive,
             kind: CertKind::Junction,
         };
-        assert_eq!(classify(&w, &cert2, &t), Failure::Contact { a, b });
+        assert_eq!(
+            classify(&w, &cert2, &t),
+            Failure::Contact { a, b, third: None }
+        );
     }
 }

@@ -8,7 +8,7 @@
 //! of a walk, which is short next to an event), so that an event touches only
 //! the certificates of the few corridors and triangles it changes.
 
-use super::certs::{Cert, CertKind};
+use super::certs::{order_cert, Cert, CertKind};
 use super::faces::{step_ccw, step_cw, turn_after};
 use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::dot_poly;
@@ -262,6 +262,8 @@ impl Kss {
                         }
                         .canonical(),
                     );
+                } else if let Some(c) = order_cert(world, p, t) {
+                    out.push(c);
                 }
             }
         } else {
@@ -276,6 +278,8 @@ impl Kss {
                         }
                         .canonical(),
                     );
+                } else if let Some(c) = order_cert(world, [j.prev, j.v, j.next], t) {
+                    out.push(c);
                 }
             }
         }
