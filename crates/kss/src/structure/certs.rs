@@ -15,7 +15,7 @@
 
 use std::collections::BTreeMap;
 
-use super::faces::{step_ccw, step_cw, turn_after};
+use super::faces::turn_after;
 use super::{Att, CorrId, Kss, Obj};
 use crate::num::{Sign, Time};
 use crate::world::World;
@@ -47,6 +47,13 @@ pub struct Cert {
     pub kind: CertKind,
 }
 
+/// `p` rotated so that its smallest point comes first (a rotation keeps the
+/// orientation): the key under which a turn is stored.
+pub fn rotate_to_min(p: [Att; 3]) -> [Att; 3] {
+    let m = (0..3).min_by_key(|&i| p[i]).expect("three points");
+    [p[m], p[(m + 1) % 3], p[(m + 2) % 3]]
+}
+
 impl Cert {
     /// The same certificate with its triple rotated so that the smallest
     /// point comes first (rotation keeps the orientation).
@@ -58,9 +65,8 @@ impl Cert {
                 ..self
             };
         }
-        let m = (0..3).min_by_key(|&i| self.p[i]).expect("three points");
         Cert {
-            p: [self.p[m], self.p[(m + 1) % 3], self.p[(m + 2) % 3]],
+            p: rotate_to_min(self.p),
             ..self
         }
     }
@@ -127,16 +133,11 @@ impl Kss {
             let c = &self.corrs[ki];
             if c.b == Obj::Omega {
                 // hull turns at the hull-bridge ends of an ω-corridor
-                let (a_s, _, a_t, _) = self.ends(k);
-                let x = self.other_finite_corner(c.s.0, a_s);
-                let y = self.other_finite_corner(c.t.0, a_t);
-                let mut turns = Vec::new();
-                if c.len_a == 0 {
-                    turns.push([y, a_s, x]);
-                } else {
-                    turns.push([step_cw(world, a_s, 1), a_s, x]);
-                    turns.push([y, a_t, step_ccw(world, a_t)]);
-                }
+                let turns: Vec<[Att; 3]> = self
+                    .hull_turns(world, k)
+                    .into_iter()
+                    .map(|(p, _)| p)
+                    .collect();
                 for p in turns {
                     if classify(p) != Sign::Zero {
                         add(Cert {

@@ -89,18 +89,11 @@ pub fn failure_time(world: &World, c: &Cert, now: &Time) -> Option<Time> {
 /// polygon edge (a possible contact) comes first, so that every contact of an
 /// instant is known before the structure changes around it.
 fn tie(world: &World, p: &[Att; 3]) -> u64 {
-    for i in 0..3 {
+    let possible_contact = (0..3).any(|i| {
         let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
-        if x.obj == y.obj && z.obj != x.obj {
-            if let Obj::Body(b) = x.obj {
-                let n = world.body(b).shape.len() as u32;
-                if (x.v + 1) % n == y.v || (y.v + 1) % n == x.v {
-                    return 0;
-                }
-            }
-        }
-    }
-    1
+        z.obj != x.obj && super::faces::poly_edge(world, x, y)
+    });
+    u64::from(!possible_contact)
 }
 
 /// The pairs in contact at `t` for a contact failure of triple `p` between

@@ -7,6 +7,7 @@
 //! meeting a bridge, or a junction turning straight.
 
 use super::certs::Cert;
+use super::faces::poly_edge;
 use super::{Att, Obj};
 use crate::motion::{middle_of_collinear, LinearPoint};
 use crate::num::Time;
@@ -49,15 +50,6 @@ fn body(a: Att) -> BodyId {
     }
 }
 
-/// Whether `x` and `y` are the two ends of one polygon edge.
-fn is_edge(world: &World, x: Att, y: Att) -> bool {
-    if x.obj != y.obj {
-        return false;
-    }
-    let n = world.body(body(x)).shape.len() as u32;
-    (x.v + 1) % n == y.v || (y.v + 1) % n == x.v
-}
-
 /// Classify certificate `c`, whose three points are collinear at time `t`.
 pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
     let pts = c.p.map(|a| point(world, a));
@@ -88,7 +80,7 @@ pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
         }
         Some(m) => {
             let (middle, x, y) = (c.p[m], c.p[(m + 1) % 3], c.p[(m + 2) % 3]);
-            if is_edge(world, x, y) && middle.obj != x.obj {
+            if poly_edge(world, x, y) && middle.obj != x.obj {
                 Failure::Contact {
                     a: body(middle),
                     b: body(x),
@@ -117,7 +109,7 @@ pub fn nearby_contact(world: &World, p: &[Att; 3], t: &Time) -> Option<(BodyId, 
     // the vertex z of one body and an edge endpoint x of the other
     let (z, x) = (0..3).find_map(|i| {
         let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
-        (x.obj == y.obj && z.obj != x.obj && is_edge(world, x, y)).then_some((z, x))
+        (x.obj == y.obj && z.obj != x.obj && poly_edge(world, x, y)).then_some((z, x))
     })?;
     let near = |a: Att| {
         let n = world.body(body(a)).shape.len() as u32;

@@ -111,6 +111,11 @@ pub fn straight_forever(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool
     pu.sub(&pv).dot(&pw.sub(&pv)).sign() == Sign::Negative
 }
 
+/// Whether `x` and `y` are the two ends of one polygon edge.
+pub fn poly_edge(world: &World, x: Att, y: Att) -> bool {
+    x.obj == y.obj && !x.is_omega() && (step_ccw(world, x) == y || step_ccw(world, y) == x)
+}
+
 /// Vertex `v + 1` (counter-clockwise neighbour) of the object of `a`.
 pub fn step_ccw(world: &World, a: Att) -> Att {
     match a.obj {

@@ -23,7 +23,8 @@
 //! (`local::normalize`) and refreshes the certificates of every touched
 //! corridor and triangle.
 
-use super::faces::{step_ccw, step_cw};
+use super::certs::rotate_to_min;
+use super::faces::{poly_edge, step_ccw, step_cw};
 use super::local::{turn, EdgeRef};
 use super::{Att, CorrId, Kss, Obj, PartitionTriangle, TriId};
 use crate::num::{Sign, Time};
@@ -48,11 +49,6 @@ pub struct Outcome {
     /// Corridors whose ends, chains or middle bridge changed (or whose hull
     /// turns depend on a changed triangle).
     pub corrs: Vec<CorrId>,
-}
-
-/// Whether `x` and `y` are the two ends of one polygon edge.
-fn poly_edge(world: &World, x: Att, y: Att) -> bool {
-    x.obj == y.obj && !x.is_omega() && (step_ccw(world, x) == y || step_ccw(world, y) == x)
 }
 
 impl Kss {
@@ -318,12 +314,11 @@ impl Kss {
         p: [Att; 3],
         middle: Att,
     ) -> Result<Outcome, String> {
-        let canon = |q: [Att; 3]| {
-            let m = (0..3).min_by_key(|&i| q[i]).expect("three");
-            [q[m], q[(m + 1) % 3], q[(m + 2) % 3]]
-        };
         let turns = self.hull_turns(world, k);
-        let Some(&(_, x)) = turns.iter().find(|(q, _)| canon(*q) == canon(p)) else {
+        let Some(&(_, x)) = turns
+            .iter()
+            .find(|(q, _)| rotate_to_min(*q) == rotate_to_min(p))
+        else {
             return Err("hull event: no such hull turn".into());
         };
         if middle != x {
@@ -351,14 +346,10 @@ impl Kss {
         p: [Att; 3],
         middle: Att,
     ) -> Result<Outcome, String> {
-        let canon = |q: [Att; 3]| {
-            let m = (0..3).min_by_key(|&i| q[i]).expect("three");
-            [q[m], q[(m + 1) % 3], q[(m + 2) % 3]]
-        };
         let js: Vec<_> = self
             .junctions(world, k)
             .into_iter()
-            .filter(|j| canon([j.prev, j.v, j.next]) == canon(p))
+            .filter(|j| rotate_to_min([j.prev, j.v, j.next]) == rotate_to_min(p))
             .collect();
         // μ lands on a face edge next to it
         for j in &js {
