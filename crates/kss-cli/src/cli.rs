@@ -311,6 +311,17 @@ pub struct RenderArgs {
     /// Do not draw velocity arrows.
     #[arg(long)]
     pub no_velocities: bool,
+    /// With --structure plain: do not draw the kinetic separation structure
+    /// (drawn by default: partition triangles, corridor faces, bridges, and
+    /// the certificates that fail next).
+    #[arg(long)]
+    pub no_structure: bool,
+    /// With the structure: highlight the N certificates that fail next.
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub highlight: usize,
+    /// With the structure: no legend.
+    #[arg(long)]
+    pub no_legend: bool,
 }
 
 /// `kss demo`.

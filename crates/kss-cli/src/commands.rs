@@ -495,12 +495,26 @@ pub fn gen_command(args: &GenArgs) -> Result<(), CliError> {
 /// `kss render`.
 pub fn render(args: &RenderArgs) -> Result<(), CliError> {
     let scenario = load_scenario(&args.scenario)?;
+    let mut structure = StructureKind::from(args.structure);
+    if structure == StructureKind::Hierarchical {
+        // not implemented yet: draw the plain structure instead
+        eprintln!("kss render: the hierarchical structure is not implemented yet; drawing plain");
+        structure = StructureKind::Plain;
+    }
     let options = RunOptions {
-        structure: StructureKind::from(args.structure),
+        structure,
         ..Default::default()
     };
-    let snapshot = kss::runner::snapshot_at(&scenario, &options, args.time)
-        .map_err(|e| CliError::from_run(&args.scenario, e))?;
+    let with_structure = options.structure == StructureKind::Plain && !args.no_structure;
+    let snapshot = if with_structure {
+        kss::runner::structure_snapshot_at(&scenario, &options, args.time, args.highlight)
+    } else {
+        kss::runner::snapshot_at(&scenario, &options, args.time)
+    }
+    .map_err(|e| CliError::from_run(&args.scenario, e))?;
+    if let Some(note) = snapshot.structure.as_ref().and_then(|s| s.note.as_ref()) {
+        eprintln!("kss render: {note}");
+    }
     let picture = kss::render::svg(
         &snapshot,
         &kss::render::RenderOptions {
@@ -509,6 +523,8 @@ pub fn render(args: &RenderArgs) -> Result<(), CliError> {
             show_ids: !args.no_ids,
             show_velocities: !args.no_velocities,
             view: args.view,
+            show_structure: with_structure,
+            show_legend: !args.no_legend,
             ..Default::default()
         },
     );

@@ -28,7 +28,10 @@ fn run_kss(args: &[&str], stdin: Option<&str>) -> Output {
         use std::io::Write;
         let mut input = child.stdin.take().expect("stdin");
         if let Some(text) = stdin {
-            input.write_all(text.as_bytes()).expect("write stdin");
+            // kss may exit before reading its input (a bad command line)
+            if let Err(e) = input.write_all(text.as_bytes()) {
+                assert_eq!(e.kind(), std::io::ErrorKind::BrokenPipe, "write stdin: {e}");
+            }
         }
     }
     child.wait_with_output().expect("wait for kss")
@@ -850,6 +853,144 @@ fn render_refuses_bad_input() {
     assert_eq!(o.status.code(), Some(1));
     let o = run_kss(&["render", "-", "--time", "nan"], Some("{}"));
     assert_eq!(o.status.code(), Some(2));
+}
+
+/// Checks that `text` is well-formed XML as `kss render` writes it: every
+/// element closed in order, no raw `<` or `&` outside markup and entities.
+fn assert_well_formed(text: &str) {
+    let mut stack: Vec<&str> = Vec::new();
+    let mut rest = text;
+    while let Some(open) = rest.find('<') {
+        let between = &rest[..open];
+        for (i, _) in between.match_indices('&') {
+            let entity = &between[i..];
+            assert!(
+                ["&amp;", "&lt;", "&gt;", "&quot;", "&apos;"]
+                    .iter()
+                    .any(|e| entity.starts_with(e)),
+                "raw & in {between:?}"
+            );
+        }
+        let close = rest[open..].find('>').expect("unclosed tag") + open;
+        let tag = &rest[open + 1..close];
+        assert!(!tag.contains('<'), "< inside tag {tag:?}");
+        if let Some(name) = tag.strip_prefix('/') {
+            assert_eq!(stack.pop(), Some(name.trim()), "closing {name}");
+        } else if !tag.ends_with('/') {
+            let name = tag.split_whitespace().next().expect("tag name");
+            stack.push(name);
+        }
+        rest = &rest[close + 1..];
+    }
+    assert!(stack.is_empty(), "unclosed elements {stack:?}");
+}
+
+#[test]
+fn render_plain_draws_the_structure() {
+    let dir = temp_dir();
+    let scenario = dir.join("gas.json");
+    let o = run_kss(
+        &[
+            "gen",
+            "gas",
+            "--k",
+            "6",
+            "--seed",
+            "3",
+            "-o",
+            scenario.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let render = |extra: &[&str]| -> String {
+        let svg = dir.join("out.svg");
+        let mut args = vec![
+            "render",
+            scenario.to_str().unwrap(),
+            "--time",
+            "1.5",
+            "-o",
+            svg.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = run_kss(&args, None);
+        assert_eq!(o.status.code(), Some(0), "{extra:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"));
+        std::fs::read_to_string(&svg).unwrap()
+    };
+    let text = render(&["--structure", "plain"]);
+    assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+    assert_well_formed(&text);
+    assert_eq!(text.matches("<g id=\"structure\">").count(), 1);
+    assert!(text.contains("id=\"legend\""));
+    assert!(!text.contains("NaN") && !text.contains("inf"));
+    let polygons = text.matches("<polygon points=").count();
+    assert_eq!(polygons, 6);
+    // the legend counts 2k − 2 partition triangles and 3k − 3 corridors
+    let k = polygons;
+    let legend = text.split("partition triangle (").nth(1).unwrap();
+    let finite: usize = legend.split(' ').next().unwrap().parse().unwrap();
+    let infinite: usize = legend
+        .split("+ ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(finite + infinite, 2 * k - 2);
+    assert_eq!(text.matches("class=\"partition-triangle\"").count(), finite);
+    let faces = text.matches("class=\"corridor-face\"").count();
+    assert!(text.contains(&format!(
+        "corridor face ({faces} in {} corridors)",
+        3 * k - 3
+    )));
+    assert!(faces >= 1);
+    assert!(text.matches("class=\"certificate\"").count() <= 5);
+    assert!(text.matches("class=\"end-edge\"").count() >= 3);
+
+    let two = render(&["--structure", "plain", "--highlight", "2", "--no-legend"]);
+    assert_well_formed(&two);
+    assert!(two.matches("class=\"certificate\"").count() <= 2 && !two.contains("legend"));
+    for off in [
+        render(&["--structure", "plain", "--no-structure"]),
+        render(&["--structure", "brute"]),
+    ] {
+        assert_well_formed(&off);
+        assert!(!off.contains("id=\"structure\"") && !off.contains("corridor-face"));
+        assert_eq!(off.matches("<polygon").count(), 6);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn render_plain_after_a_stop_explains_the_missing_structure() {
+    let dir = temp_dir();
+    let scenario = dir.join("s.json");
+    // the triangles touch at t = 1 and the run stops there
+    std::fs::write(&scenario, two_triangles("stop")).unwrap();
+    let svg = dir.join("out.svg");
+    let o = run_kss(
+        &[
+            "render",
+            scenario.to_str().unwrap(),
+            "--time",
+            "3",
+            "--structure",
+            "plain",
+            "-o",
+            svg.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("structure not drawn"), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert_well_formed(&text);
+    assert!(text.contains("structure not drawn") && !text.contains("partition-triangle"));
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]

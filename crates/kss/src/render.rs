@@ -1,4 +1,9 @@
-//! Pictures: a snapshot of the scene at one instant, drawn as an SVG string.
+//! Pictures: a snapshot of the scene at one instant, drawn as an SVG string,
+//! optionally with the kinetic separation structure over it ([`overlay`]).
+
+pub mod overlay;
+
+pub use overlay::StructureOverlay;
 
 /// One polygon as drawn.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,6 +25,8 @@ pub struct Snapshot {
     pub time: f64,
     /// The polygons still in the scene.
     pub polygons: Vec<SnapshotPolygon>,
+    /// The kinetic separation structure at that instant, if drawn.
+    pub structure: Option<StructureOverlay>,
 }
 
 /// How [`svg`] draws a snapshot.
@@ -40,6 +47,10 @@ pub struct RenderOptions {
     /// The world rectangle shown, `[x_min, y_min, x_max, y_max]`; `None`: fit
     /// every polygon.
     pub view: Option<[f64; 4]>,
+    /// Draw the snapshot's structure, if it has one.
+    pub show_structure: bool,
+    /// With the structure, draw a legend box in the top right corner.
+    pub show_legend: bool,
 }
 
 impl Default for RenderOptions {
@@ -52,12 +63,14 @@ impl Default for RenderOptions {
             show_velocities: true,
             velocity_scale: 1.0,
             view: None,
+            show_structure: true,
+            show_legend: true,
         }
     }
 }
 
 /// Escapes `&`, `<`, `>`, `"` and `'` for SVG text and attribute values.
-fn escape_xml(s: &str) -> String {
+pub(crate) fn escape_xml(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -86,7 +99,9 @@ fn colour(i: usize) -> (String, String) {
 /// Draws `snapshot` as a standalone SVG document (y axis pointing up): fixed
 /// polygons grey, moving ones in distinct colours, optional ids and velocity
 /// arrows, and a caption with the time. Polygons with non-finite coordinates
-/// are left out.
+/// are left out. With [`Snapshot::structure`] and
+/// [`RenderOptions::show_structure`], the structure is drawn over the
+/// polygons in a group `<g id="structure">` (see [`overlay`]), with a legend.
 ///
 /// ```
 /// use kss::render::{svg, RenderOptions, Snapshot, SnapshotPolygon};
@@ -98,6 +113,7 @@ fn colour(i: usize) -> (String, String) {
 ///         fixed: false,
 ///         velocity: [1.0, 0.0],
 ///     }],
+///     structure: None,
 /// };
 /// let text = svg(&snap, &RenderOptions::default());
 /// assert!(text.starts_with("<svg") && text.contains("a&lt;b") && text.contains("t = 1.5"));
@@ -150,7 +166,17 @@ pub fn svg(snapshot: &Snapshot, options: &RenderOptions) -> String {
             view[hi] += pad;
         }
     }
-    let avail_w = (width - 2.0 * margin).max(1.0);
+    let structure = snapshot
+        .structure
+        .as_ref()
+        .filter(|_| options.show_structure);
+    // The legend gets a column of its own on the right when there is room.
+    let legend = structure.filter(|o| options.show_legend && o.note.is_none());
+    let legend_column = match legend {
+        Some(_) if width >= 3.0 * overlay::LEGEND_WIDTH => overlay::LEGEND_WIDTH + 8.0,
+        _ => 0.0,
+    };
+    let avail_w = (width - 2.0 * margin - legend_column).max(1.0);
     let avail_h = (height - 2.0 * margin - caption_h).max(1.0);
     let scale = (avail_w / (view[2] - view[0])).min(avail_h / (view[3] - view[1]));
     let off_x = margin + (avail_w - scale * (view[2] - view[0])) / 2.0;
@@ -208,6 +234,9 @@ pub fn svg(snapshot: &Snapshot, options: &RenderOptions) -> String {
             escape_xml(&p.id)
         );
     }
+    if let Some(o) = structure {
+        overlay::draw(&mut out, o, &sx, &sy);
+    }
     if options.show_velocities {
         for p in polygons.iter().filter(|p| !p.fixed) {
             let v = p.velocity;
@@ -240,9 +269,16 @@ pub fn svg(snapshot: &Snapshot, options: &RenderOptions) -> String {
         }
     }
     out.push_str("</g>\n");
+    if let Some(o) = legend {
+        overlay::legend(&mut out, o, width, margin);
+    }
+    let note = match structure.and_then(|o| o.note.as_ref()) {
+        Some(n) => format!(" · {}", escape_xml(n)),
+        None => String::new(),
+    };
     let _ = writeln!(
         out,
-        r##"<text x="{:.2}" y="{:.2}" font-size="14" fill="#111">t = {} · {} polygon{}</text>"##,
+        r##"<text x="{:.2}" y="{:.2}" font-size="14" fill="#111">t = {} · {} polygon{}{note}</text>"##,
         margin.max(4.0),
         height - 7.0,
         snapshot.time,
@@ -280,6 +316,7 @@ mod tests {
                     velocity: [0.0, 0.0],
                 },
             ],
+            structure: None,
         }
     }
 
@@ -333,8 +370,61 @@ mod tests {
                 fixed: false,
                 velocity: [f64::NAN, 0.0],
             }],
+            structure: None,
         };
         let s = svg(&point, &RenderOptions::default());
         assert!(!s.contains("NaN") && !s.contains("inf"));
+    }
+
+    #[test]
+    fn draws_the_structure_overlay() {
+        let mut snap = snap();
+        snap.structure = Some(StructureOverlay {
+            triangles: vec![[[4.0, 3.0], [6.0, 3.0], [5.0, 4.0]]],
+            infinite_triangles: 3,
+            corridors: vec![
+                overlay::CorridorOverlay {
+                    omega: false,
+                    faces: vec![
+                        vec![[4.0, 3.0], [3.0, 5.0], [7.0, 5.0], [6.0, 3.0]],
+                        vec![[0.0, 1.0], [1.0, 1.0]],
+                    ],
+                },
+                overlay::CorridorOverlay {
+                    omega: true,
+                    faces: vec![],
+                },
+            ],
+            end_edges: vec![[[4.0, 3.0], [6.0, 3.0]]],
+            middle_bridges: vec![[[3.0, 5.0], [7.0, 5.0]]],
+            omega_rays: vec![([3.0, 5.0], [0.0, 1.0])],
+            certificates: vec![overlay::CertificateOverlay {
+                points: [[4.0, 3.0], [6.0, 3.0], [5.0, 4.0]],
+                kind: "triangle",
+                time: 2.75,
+            }],
+            note: None,
+        });
+        let s = svg(&snap, &RenderOptions::default());
+        assert_eq!(s.matches("<g id=\"structure\">").count(), 1);
+        assert_eq!(s.matches("class=\"partition-triangle\"").count(), 1);
+        assert_eq!(s.matches("class=\"corridor-face\"").count(), 1);
+        assert_eq!(s.matches("class=\"middle-bridge\"").count(), 1);
+        assert_eq!(s.matches("class=\"end-edge\"").count(), 1);
+        assert_eq!(s.matches("class=\"omega-ray\"").count(), 1);
+        assert_eq!(s.matches("class=\"certificate\"").count(), 1);
+        assert!(s.contains("1: t = 2.75") && s.contains("id=\"legend\""));
+        assert_eq!(s.matches("<g").count(), s.matches("</g>").count());
+        let off = svg(
+            &snap,
+            &RenderOptions {
+                show_structure: false,
+                ..Default::default()
+            },
+        );
+        assert!(!off.contains("structure") && !off.contains("legend"));
+        snap.structure.as_mut().unwrap().note = Some("not drawn".into());
+        let noted = svg(&snap, &RenderOptions::default());
+        assert!(noted.contains("· not drawn") && !noted.contains("partition-triangle"));
     }
 }

@@ -134,7 +134,112 @@ pub fn snapshot_at(
             velocity: b.traj.velocity().to_f64(),
         })
         .collect();
-    Ok(crate::render::Snapshot { time, polygons })
+    Ok(crate::render::Snapshot {
+        time,
+        polygons,
+        structure: None,
+    })
+}
+
+/// A run of the plain kinetic separation structure stopped at one instant
+/// (see [`plain_state_at`]).
+#[derive(Debug)]
+pub struct PlainState {
+    /// The world after every event up to the instant (later flight-plan
+    /// changes not applied yet).
+    pub world: World,
+    /// The structure after every event at or before the instant, with its
+    /// certificates scheduled: valid just after [`PlainState::time`].
+    pub kinetic: Kinetic,
+    /// The instant, exactly.
+    pub time: Rational,
+    /// If the run ended before the instant (the first collision in `stop`
+    /// mode, or the scenario's `until`), when: the structure is not
+    /// maintained after that, so it need not be valid at the instant.
+    pub ended: Option<Time>,
+}
+
+/// Run `scenario` with the plain kinetic separation structure up to the
+/// instant `time` (the exact value of the double; collisions handled as in
+/// [`run`], every event at or before `time` processed except flight-plan
+/// changes at exactly `time`) and return the world and the structure then.
+/// `options.structure` is ignored; `options.until` and `options.audit` apply.
+pub fn plain_state_at(
+    scenario: &Scenario,
+    options: &RunOptions,
+    time: f64,
+) -> Result<PlainState, RunError> {
+    let t = Time::from_f64(time).ok_or_else(|| RunError::Internal(format!("bad time {time}")))?;
+    let options = RunOptions {
+        structure: StructureKind::Plain,
+        ..options.clone()
+    };
+    let mut world = World::new(scenario, options.until)?;
+    let mut engine = PlainEngine::new(&world, options.audit)?;
+    let mut last: Option<Time> = None;
+    drive(&mut world, &mut engine, &options, Some(&t), &mut |e| {
+        last = Some(e.time.clone());
+    })?;
+    let ended = match last {
+        Some(c) if world.mode() == CollisionMode::Stop && c < t => Some(c),
+        _ if *world.until() < t => Some(world.until().clone()),
+        _ => None,
+    };
+    let time = t.as_rational().expect("a double is rational").clone();
+    Ok(PlainState {
+        world,
+        kinetic: engine.k,
+        time,
+        ended,
+    })
+}
+
+/// Like [`snapshot_at`] with the plain structure, and with the structure
+/// itself in [`crate::render::Snapshot::structure`]: partition triangles,
+/// corridor faces, bridges, and the `highlight` certificates that fail
+/// first (see [`crate::structure::view::overlay`]). If the run ended before
+/// `time` (see [`PlainState::ended`]), the structure carries a note instead.
+pub fn structure_snapshot_at(
+    scenario: &Scenario,
+    options: &RunOptions,
+    time: f64,
+    highlight: usize,
+) -> Result<crate::render::Snapshot, RunError> {
+    let state = plain_state_at(scenario, options, time)?;
+    let world = &state.world;
+    let polygons = world
+        .bodies()
+        .iter()
+        .filter(|b| b.alive)
+        .map(|b| crate::render::SnapshotPolygon {
+            id: b.id.clone(),
+            vertices: (0..b.shape.len())
+                .map(|i| b.vertex_at(i, &state.time).to_f64())
+                .collect(),
+            fixed: b.fixed,
+            velocity: b.traj.velocity().to_f64(),
+        })
+        .collect();
+    let structure = match &state.ended {
+        None => crate::structure::view::overlay(world, &state.kinetic, &state.time, highlight),
+        Some(end) => crate::render::StructureOverlay {
+            note: Some(format!(
+                "structure not drawn: the run ended at t = {} ({})",
+                end.to_f64(),
+                if world.mode() == CollisionMode::Stop && end < world.until() {
+                    "stop at the first collision"
+                } else {
+                    "until"
+                }
+            )),
+            ..Default::default()
+        },
+    };
+    Ok(crate::render::Snapshot {
+        time,
+        polygons,
+        structure: Some(structure),
+    })
 }
 
 /// The earliest collision instant and the pairs colliding then.

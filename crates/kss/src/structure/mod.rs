@@ -32,6 +32,7 @@ pub mod events;
 pub mod faces;
 pub mod local;
 pub mod ops;
+pub mod view;
 
 use crate::world::BodyId;
 
