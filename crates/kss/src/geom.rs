@@ -303,6 +303,25 @@ pub fn convex_polygons_intersect(a: &[Point], b: &[Point]) -> bool {
     !(has_separating_edge(a, b) || has_separating_edge(b, a))
 }
 
+/// Whether the segment `pq` meets the interior of the convex polygon `poly`
+/// (exact vertices, counter-clockwise). Touching the boundary, or running
+/// along an edge, does not count. Separating-axis test over the polygon's
+/// edges and the segment's line, `O(n)`; for audits.
+pub fn segment_meets_convex_interior(p: &Point, q: &Point, poly: &[Point]) -> bool {
+    let n = poly.len();
+    let edge_separates = (0..n).any(|i| {
+        let (a, b) = (&poly[i], &poly[(i + 1) % n]);
+        orient(a, b, p) != Sign::Positive && orient(a, b, q) != Sign::Positive
+    });
+    if edge_separates {
+        return false;
+    }
+    let sides: Vec<Sign> = poly.iter().map(|r| orient(p, q, r)).collect();
+    let line_separates =
+        sides.iter().all(|s| *s != Sign::Negative) || sides.iter().all(|s| *s != Sign::Positive);
+    !line_separates
+}
+
 /// Whether some edge line of `a` has all of `b` strictly on its outer side.
 fn has_separating_edge(a: &[Point], b: &[Point]) -> bool {
     let n = a.len();
@@ -371,6 +390,16 @@ mod tests {
             &sq(0.0, 0.0),
             &sq(1.0 + 1e-12, 0.0)
         ));
+        let pt = |x: f64, y: f64| Point::from_f64([x, y]).unwrap();
+        let meets = |p, q| segment_meets_convex_interior(&p, &q, &sq(0.0, 0.0));
+        assert!(meets(pt(-1.0, 0.5), pt(2.0, 0.5))); // through
+        assert!(meets(pt(0.0, 0.0), pt(1.0, 1.0))); // diagonal, corner to corner
+        assert!(meets(pt(0.5, 0.5), pt(0.6, 0.5))); // inside
+        assert!(!meets(pt(0.0, 0.0), pt(1.0, 0.0))); // along an edge
+        assert!(!meets(pt(-1.0, 0.0), pt(3.0, 0.0))); // along an edge line
+        assert!(!meets(pt(1.0, 0.0), pt(2.0, -1.0))); // from a corner outwards
+        assert!(!meets(pt(-1.0, 1.0), pt(1.0, -1.0))); // grazing a corner
+        assert!(!meets(pt(2.0, 0.0), pt(2.0, 1.0))); // apart
     }
 }
 

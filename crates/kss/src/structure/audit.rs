@@ -120,3 +120,84 @@ fn walk_chain(
     }
     Ok(())
 }
+
+impl Kss {
+    /// Check that no bridge (a side of a partition triangle between two
+    /// finite corners, or a middle bridge) passes through the interior of a
+    /// polygon at the rational instant `t`. With the face checks this is what
+    /// makes the faces tile the free space: a face whose sign pattern is a
+    /// pseudo-triangle's but which wraps around a polygon has a bridge
+    /// through that polygon. `O(bridges · N)` exact tests after a box filter.
+    pub fn check_bridges(&self, world: &World, t: &crate::num::Rational) -> Result<(), String> {
+        use super::build::position;
+        use crate::geom::{segment_meets_convex_interior, Point};
+        let placed: Vec<Option<(Vec<Point>, [f64; 4])>> = world
+            .bodies()
+            .iter()
+            .map(|b| {
+                b.alive.then(|| {
+                    let pts: Vec<Point> = (0..b.shape.len()).map(|i| b.vertex_at(i, t)).collect();
+                    let mut bx = [
+                        f64::INFINITY,
+                        f64::INFINITY,
+                        f64::NEG_INFINITY,
+                        f64::NEG_INFINITY,
+                    ];
+                    for p in &pts {
+                        let [x, y] = p.to_f64();
+                        bx = [bx[0].min(x), bx[1].min(y), bx[2].max(x), bx[3].max(y)];
+                    }
+                    (pts, bx)
+                })
+            })
+            .collect();
+        let mut bridges: Vec<(Att, Att)> = Vec::new();
+        for tri in &self.tris {
+            for i in 0..3 {
+                let (x, y) = (tri.c[i], tri.c[(i + 1) % 3]);
+                if !x.is_omega() && !y.is_omega() {
+                    bridges.push((x, y));
+                }
+            }
+        }
+        for ki in 0..self.corrs.len() {
+            let k = super::CorrId(ki as u32);
+            if let Some((i, j)) = self.corrs[ki].mid {
+                let (a_s, _, _, b_t) = self.ends(k);
+                bridges.push((
+                    super::faces::step_cw(world, a_s, i),
+                    super::faces::step_cw(world, b_t, j),
+                ));
+            }
+        }
+        // hull sides appear in one finite and one infinite triangle, or in
+        // two triangles: checking a segment twice is harmless
+        for (x, y) in bridges {
+            let (p, q) = (
+                position(world, x, t).expect("finite"),
+                position(world, y, t).expect("finite"),
+            );
+            let (pf, qf) = (p.to_f64(), q.to_f64());
+            // a little slack: the box filter must never skip a real hit
+            let slack = |v: f64| v.abs() * 1e-9 + 1e-300;
+            let (lo_x, hi_x) = (pf[0].min(qf[0]), pf[0].max(qf[0]));
+            let (lo_y, hi_y) = (pf[1].min(qf[1]), pf[1].max(qf[1]));
+            for (bi, body) in placed.iter().enumerate() {
+                let Some((pts, bx)) = body else { continue };
+                if hi_x + slack(hi_x) < bx[0] - slack(bx[0])
+                    || lo_x - slack(lo_x) > bx[2] + slack(bx[2])
+                    || hi_y + slack(hi_y) < bx[1] - slack(bx[1])
+                    || lo_y - slack(lo_y) > bx[3] + slack(bx[3])
+                {
+                    continue;
+                }
+                if segment_meets_convex_interior(&p, &q, pts) {
+                    return Err(format!(
+                        "bridge {x:?}–{y:?} passes through the interior of body {bi}"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}

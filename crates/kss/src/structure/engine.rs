@@ -52,6 +52,8 @@ pub struct Kinetic {
     /// Popped failures of the current instant that wait until every possible
     /// contact of the instant has been classified.
     later: Option<(Time, Vec<[Att; 3]>)>,
+    /// The certificate whose failure is being handled.
+    handling: Option<[Att; 3]>,
     /// Internal events by kind.
     pub counts: BTreeMap<&'static str, u64>,
 }
@@ -83,6 +85,12 @@ pub fn failure_time(world: &World, c: &Cert, now: &Time) -> Option<Time> {
         return Some(now.clone());
     }
     p.first_failure_after(now)
+}
+
+/// Whether certificate `c` is already wrong just after `now` (it fails at
+/// `now`).
+fn is_failing(world: &World, c: &Cert, now: &Time) -> bool {
+    cert_poly(world, c).sign_after(now) != Sign::Positive
 }
 
 /// Order among failures at one instant: a vertex against another body's
@@ -212,23 +220,42 @@ impl Kinetic {
             Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
             Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
         };
+        // certificates that fail at `now` and have not been handled yet keep
+        // their sign (and stay due now): recomputing them with the sign they
+        // have just after `now` would swallow the failure when two fail at
+        // one instant and the operation for the first touches the second
+        let mut pending: BTreeMap<[Att; 3], Cert> = BTreeMap::new();
         for p in &old {
             let Some(s) = self.certs.get_mut(p) else {
                 continue;
             };
             s.owners.retain(|&x| x != o);
             if s.owners.is_empty() {
+                let cert = s.cert;
+                if self.handling != Some(*p) && is_failing(world, &cert, now) {
+                    pending.insert(*p, cert);
+                }
                 self.drop_cert(p);
             }
         }
         let mut mine = Vec::with_capacity(fresh.len());
         for c in fresh {
+            let c = match pending.get(&c.p) {
+                Some(old) if old.sign != c.sign => *old,
+                _ => c,
+            };
             match self.certs.get_mut(&c.p) {
                 Some(s) if s.cert.sign != c.sign => {
-                    return Err(format!(
-                        "contradictory certificates on {:?} ({:?} and {:?})",
-                        c.p, s.owners, o
-                    ));
+                    if self.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
+                        return Err(format!(
+                            "contradictory certificates on {:?} ({:?} and {:?})",
+                            c.p, s.owners, o
+                        ));
+                    }
+                    // the kept certificate fails now and will be handled
+                    if !s.owners.contains(&o) {
+                        s.owners.push(o);
+                    }
                 }
                 Some(s) => {
                     if !s.owners.contains(&o) {
@@ -416,7 +443,10 @@ impl Kinetic {
                 }
                 let owner = *owners.first().ok_or("certificate without owner")?;
                 let out = self.kss.process(world, owner, p, middle, &t)?;
-                self.apply(world, out, &t)?;
+                self.handling = Some(p);
+                let applied = self.apply(world, out, &t);
+                self.handling = None;
+                applied?;
                 // a certificate that outlived the operation unchanged fails
                 // again if it is still wrong just after t
                 if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
@@ -472,6 +502,7 @@ impl Kinetic {
         let at_t = Time::from_rational(at.clone());
         self.kss.check_topology(world)?;
         self.kss.check_faces(world, &at_t)?;
+        self.kss.check_bridges(world, at)?;
         let fresh = self.kss.certificates(world, &at_t)?;
         if fresh.len() != self.certs.len() {
             let have: BTreeSet<_> = self.certs.keys().collect();
@@ -520,6 +551,17 @@ impl Kinetic {
             ));
         }
         Ok(())
+    }
+
+    // ----- read-only views (for pictures; no effect on the simulation) -----
+
+    /// Every certificate scheduled in the event queue with its failure time,
+    /// in no particular order (certificates that never fail on the current
+    /// motions, or that wait for a collision response, are not listed).
+    pub fn scheduled(&self) -> impl Iterator<Item = (&Time, &Cert)> + '_ {
+        self.queue
+            .iter()
+            .filter_map(|(_, t, _, p)| self.certs.get(p).map(|s| (t, &s.cert)))
     }
 }
 
