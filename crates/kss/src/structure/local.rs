@@ -65,14 +65,86 @@ pub fn turn(world: &World, u: Att, v: Att, w: Att, t: &Time) -> Sign {
     turn_after(world, u, v, w, t)
 }
 
+/// Which side of the current instant a corridor's signs are read on.
+///
+/// Normally just after it. When several certificates fail at one instant,
+/// the operation for the first can leave a neighbouring corridor that has
+/// no pseudo-triangle decomposition just after the instant until the others
+/// are handled; that corridor is then checked, and its certificates signed,
+/// just *before* the instant (where the structure was valid), so that the
+/// junctions whose sign flips at the instant fail at once and are handled as
+/// events of the same instant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// Just after the instant (the normal case).
+    After,
+    /// Just before it.
+    Before,
+}
+
+fn lin(world: &World, a: Att) -> crate::motion::LinearPoint {
+    match a.obj {
+        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Omega => unreachable!("a finite point was expected"),
+    }
+}
+
+/// The sign of `orient(u, v, w)` just on `side` of `t`.
+pub fn turn_on(world: &World, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sign {
+    match side {
+        Side::After => turn_after(world, u, v, w, t),
+        Side::Before => crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w))
+            .sign_before(t),
+    }
+}
+
 /// Whether `v` is strictly between `u` and `w` just after `t` (for three
 /// points that stay on one line).
 pub fn between_after(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool {
-    let lp = |a: Att| match a.obj {
-        Obj::Body(b) => world.body(b).vertex(a.v as usize),
-        Obj::Omega => unreachable!("between_after on ω"),
+    between_on(world, u, v, w, t, Side::After)
+}
+
+/// Whether `v` is strictly between `u` and `w` just on `side` of `t`.
+pub fn between_on(world: &World, u: Att, v: Att, w: Att, t: &Time, side: Side) -> bool {
+    let d = dot_poly(&lin(world, v), &lin(world, u), &lin(world, w));
+    let s = match side {
+        Side::After => d.sign_after(t),
+        Side::Before => d.sign_before(t),
     };
-    dot_poly(&lp(v), &lp(u), &lp(w)).sign_after(t) == Sign::Negative
+    s == Sign::Negative
+}
+
+/// Whether the polygon of junction `j`'s vertex `v` stays out of the face at
+/// `v` just on `side` of `t`, given the junction's turn `s`: a bridge end
+/// must not point into the polygon's corner at `v`, and the polygon's edges
+/// at `v` that are not face edges must not point into the face's angle
+/// (the intersection of the two left half-planes at a convex junction, their
+/// union at a reflex one, one half-plane at a straight one).
+fn junction_clear(world: &World, j: &Junction, s: Sign, t: &Time, side: Side) -> bool {
+    let v = j.v;
+    let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
+    let tn = |a, b, c| turn_on(world, a, b, c, t, side);
+    // the polygon's corner at v: left of (down → v) and of (v → up)
+    let in_corner = |w: Att| tn(down, v, w) == Sign::Positive && tn(v, up, w) == Sign::Positive;
+    let in_face = |x: Att| {
+        let (l, r) = (tn(j.prev, v, x), tn(v, j.next, x));
+        match s {
+            Sign::Positive => l == Sign::Positive && r == Sign::Positive,
+            Sign::Negative => l == Sign::Positive || r == Sign::Positive,
+            Sign::Zero => l == Sign::Positive,
+        }
+    };
+    for w in [j.prev, j.next] {
+        if w.obj != v.obj && in_corner(w) {
+            return false;
+        }
+    }
+    for x in [up, down] {
+        if x != j.prev && x != j.next && in_face(x) {
+            return false;
+        }
+    }
+    true
 }
 
 impl Kss {
@@ -194,6 +266,43 @@ impl Kss {
     /// pseudo-triangle just after `t`: three convex junctions, the others
     /// reflex or straight for ever (chain interiors are reflex for ever).
     pub fn faces_valid(&self, world: &World, k: CorrId, mid: Option<(u32, u32)>, t: &Time) -> bool {
+        self.faces_valid_on(world, k, mid, t, Side::After)
+    }
+
+    /// [`Kss::faces_valid`] read on `side` of `t`.
+    pub fn faces_valid_on(
+        &self,
+        world: &World,
+        k: CorrId,
+        mid: Option<(u32, u32)>,
+        t: &Time,
+        side: Side,
+    ) -> bool {
+        let sign = |j: &Junction| turn_on(world, j.prev, j.v, j.next, t, side);
+        self.faces_valid_core(world, k, mid, t, side, &sign)
+    }
+
+    /// [`Kss::faces_valid`] with the junction signs given by `sign`.
+    fn faces_valid_signed(
+        &self,
+        world: &World,
+        k: CorrId,
+        mid: Option<(u32, u32)>,
+        t: &Time,
+        sign: &dyn Fn(&Junction) -> Sign,
+    ) -> bool {
+        self.faces_valid_core(world, k, mid, t, Side::After, sign)
+    }
+
+    fn faces_valid_core(
+        &self,
+        world: &World,
+        k: CorrId,
+        mid: Option<(u32, u32)>,
+        t: &Time,
+        side: Side,
+        sign: &dyn Fn(&Junction) -> Sign,
+    ) -> bool {
         let c = &self.corrs[k.0 as usize];
         if let Some((i, j)) = mid {
             if i > c.len_a || j > c.len_b || (i == 0 && j == c.len_b) || (i == c.len_a && j == 0) {
@@ -210,11 +319,20 @@ impl Kss {
             };
             let mut convex = 0;
             for j in &js {
-                match turn(world, j.prev, j.v, j.next, t) {
+                let s = sign(j);
+                // a junction read with its real sign must also keep its
+                // polygon out of the face (a pseudo-triangle's sign pattern
+                // alone allows a face that wraps around a vertex)
+                if s == turn_on(world, j.prev, j.v, j.next, t, side)
+                    && !junction_clear(world, j, s, t, side)
+                {
+                    return false;
+                }
+                match s {
                     Sign::Positive => convex += 1,
                     Sign::Negative => {}
                     Sign::Zero => {
-                        if !between_after(world, j.prev, j.v, j.next, t) {
+                        if !between_on(world, j.prev, j.v, j.next, t, side) {
                             return false;
                         }
                     }
@@ -249,6 +367,7 @@ impl Kss {
     /// hull turns at its hull-bridge ends. Turns that are identically zero
     /// are left out.
     pub fn corridor_certs(&self, world: &World, k: CorrId, t: &Time) -> Vec<Cert> {
+        let flipped: &[[Att; 3]] = self.held.get(&k).map_or(&[], |v| v.as_slice());
         let mut out: Vec<Cert> = Vec::new();
         let c = &self.corrs[k.0 as usize];
         if c.b == Obj::Omega {
@@ -268,7 +387,10 @@ impl Kss {
             }
         } else {
             for j in self.junctions(world, k) {
-                let sign = turn(world, j.prev, j.v, j.next, t);
+                let mut sign = turn(world, j.prev, j.v, j.next, t);
+                if flipped.contains(&[j.prev, j.v, j.next]) {
+                    sign = sign.neg();
+                }
                 if sign != Sign::Zero {
                     out.push(
                         Cert {
@@ -309,9 +431,9 @@ impl Kss {
 
     /// Whether corridor `k` has four convex corners just after `t` (it needs
     /// a middle bridge), given both chains are non-empty.
-    fn four_corners(&self, world: &World, k: CorrId, t: &Time) -> bool {
+    fn four_corners(&self, world: &World, k: CorrId, t: &Time, side: Side) -> bool {
         let (a_s, b_s, a_t, b_t) = self.ends(k);
-        let conv = |u, v, w| turn(world, u, v, w, t) == Sign::Positive;
+        let conv = |u, v, w| turn_on(world, u, v, w, t, side) == Sign::Positive;
         conv(b_s, a_s, step_cw(world, a_s, 1))
             && conv(step_ccw(world, a_t), a_t, b_t)
             && conv(a_t, b_t, step_cw(world, b_t, 1))
@@ -334,6 +456,7 @@ impl Kss {
         let c = &self.corrs[ki];
         if c.b == Obj::Omega || (c.len_a == 0 && c.len_b == 0) {
             self.corrs[ki].mid = None;
+            self.held.remove(&k);
             return Ok(0);
         }
         let (len_a, len_b) = (c.len_a, c.len_b);
@@ -342,10 +465,133 @@ impl Kss {
             .filter(|&(i, j)| i <= len_a && j <= len_b)
             .filter(|&(i, j)| !((i == 0 && j == len_b) || (i == len_a && j == 0)));
         self.corrs[ki].mid = mid;
-        if self.faces_valid(world, k, mid, t) {
-            return Ok(0);
+        self.held.remove(&k);
+        if let Some(steps) = self.decompose(world, k, t, hint, Side::After) {
+            return Ok(steps);
         }
-        if len_a > 0 && len_b > 0 && self.four_corners(world, k, t) {
+        // No decomposition just after `t`: other certificates fail at this
+        // instant and their operations are still to come. Keep a
+        // decomposition that is valid with some junctions that are zero at
+        // `t` read with their sign from just before `t` (all of them, or the
+        // fewest that work); those junctions' certificates then fail at once
+        // and are handled as further events of this instant.
+        let mut candidates: Vec<Option<(u32, u32)>> = Vec::new();
+        if self.decompose(world, k, t, hint, Side::Before).is_some() {
+            candidates.push(self.corrs[ki].mid);
+        }
+        candidates.extend([mid, None]);
+        for m in candidates {
+            if let Some(flips) = self.fewest_flips(world, k, m, t) {
+                self.corrs[ki].mid = m;
+                if !flips.is_empty() {
+                    self.held.insert(k, flips);
+                }
+                return Ok(1);
+            }
+        }
+        self.corrs[ki].mid = mid;
+        #[cfg(feature = "trace")]
+        {
+            eprintln!(
+                "normalize failed: {:?} ends {:?}",
+                self.corrs[ki],
+                self.ends(k)
+            );
+            for m in [mid, None] {
+                for j in self
+                    .junctions_with(world, k, m)
+                    .into_iter()
+                    .flatten()
+                    .flatten()
+                {
+                    eprintln!(
+                        "  mid {m:?}: {:?} {:?} {:?} before {:?} after {:?}",
+                        j.prev,
+                        j.v,
+                        j.next,
+                        turn_on(world, j.prev, j.v, j.next, t, Side::Before),
+                        turn_on(world, j.prev, j.v, j.next, t, Side::After)
+                    );
+                }
+            }
+        }
+        Err(format!(
+            "corridor {ki}: no pseudo-triangle decomposition found (len {len_a}/{len_b}, mid {mid:?})"
+        ))
+    }
+
+    /// The fewest junctions of corridor `k` with middle bridge `m`, among
+    /// those whose turn is zero at `t` (but not for ever), whose sign must be
+    /// reversed from the one just after `t` for every face to be a
+    /// pseudo-triangle; `None` if no such set exists.
+    fn fewest_flips(
+        &self,
+        world: &World,
+        k: CorrId,
+        m: Option<(u32, u32)>,
+        t: &Time,
+    ) -> Option<Vec<[Att; 3]>> {
+        let faces = self.junctions_with(world, k, m);
+        let js: Vec<Junction> = faces.iter().flatten().flatten().copied().collect();
+        let zero: Vec<usize> = (0..js.len())
+            .filter(|&x| {
+                let j = js[x];
+                let p = crate::motion::orient_poly(
+                    &lin(world, j.prev),
+                    &lin(world, j.v),
+                    &lin(world, j.next),
+                );
+                p.sign_after(t) != Sign::Zero && p.sign_at(t) == Sign::Zero
+            })
+            .collect();
+        if zero.is_empty() || zero.len() > 10 {
+            return None;
+        }
+        let mut masks: Vec<u32> = (1..(1u32 << zero.len())).collect();
+        masks.sort_by_key(|m| m.count_ones());
+        for mask in masks {
+            let flips: Vec<[Att; 3]> = (0..zero.len())
+                .filter(|b| mask & (1 << b) != 0)
+                .map(|b| {
+                    let j = js[zero[b]];
+                    [j.prev, j.v, j.next]
+                })
+                .collect();
+            let sign = |j: &Junction| {
+                let s = turn(world, j.prev, j.v, j.next, t);
+                if flips.contains(&[j.prev, j.v, j.next]) {
+                    s.neg()
+                } else {
+                    s
+                }
+            };
+            if self.faces_valid_signed(world, k, m, t, &sign) {
+                return Some(flips);
+            }
+        }
+        None
+    }
+
+    /// Find a middle bridge (or none) that makes corridor `k`'s faces
+    /// pseudo-triangles just on `side` of `t`, keeping the current one if it
+    /// does; sets it and returns the walk length (0: nothing changed).
+    fn decompose(
+        &mut self,
+        world: &World,
+        k: CorrId,
+        t: &Time,
+        hint: Option<(u32, u32)>,
+        side: Side,
+    ) -> Option<u32> {
+        let ki = k.0 as usize;
+        let (len_a, len_b, mid) = {
+            let c = &self.corrs[ki];
+            (c.len_a, c.len_b, c.mid)
+        };
+        if self.faces_valid_on(world, k, mid, t, side) {
+            return Some(0);
+        }
+        if len_a > 0 && len_b > 0 && self.four_corners(world, k, t, side) {
             let starts: Vec<(u32, u32)> = hint
                 .into_iter()
                 .chain(mid)
@@ -354,21 +600,19 @@ impl Kss {
             let limit = 2 * (len_a + len_b) + 8;
             for &start in &starts {
                 for ty in [Diagonal::SourceToTarget, Diagonal::TargetToSource] {
-                    if let Some((m, steps)) = self.walk(world, k, t, start, ty, limit) {
-                        if self.faces_valid(world, k, Some(m), t) {
+                    if let Some((m, steps)) = self.walk(world, k, t, start, ty, limit, side) {
+                        if self.faces_valid_on(world, k, Some(m), t, side) {
                             self.corrs[ki].mid = Some(m);
-                            return Ok(steps.max(1));
+                            return Some(steps.max(1));
                         }
                     }
                 }
             }
-        } else if self.faces_valid(world, k, None, t) {
+        } else if self.faces_valid_on(world, k, None, t, side) {
             self.corrs[ki].mid = None;
-            return Ok(1);
+            return Some(1);
         }
-        Err(format!(
-            "corridor {ki}: no pseudo-triangle decomposition found (len {len_a}/{len_b}, mid {mid:?})"
-        ))
+        None
     }
 
     /// Walk a middle bridge of diagonal type `ty` from `start` until its four
@@ -381,12 +625,13 @@ impl Kss {
         start: (u32, u32),
         ty: Diagonal,
         limit: u32,
+        side: Side,
     ) -> Option<((u32, u32), u32)> {
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
         let (a_s, b_s, a_t, b_t) = self.ends(k);
         let (mut i, mut j) = (start.0.min(len_a), start.1.min(len_b));
-        let tn = |u, v, w| turn(world, u, v, w, t);
+        let tn = |u, v, w| turn_on(world, u, v, w, t, side);
         for steps in 0..limit {
             let alpha = step_cw(world, a_s, i);
             let beta = step_cw(world, b_t, j);

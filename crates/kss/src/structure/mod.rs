@@ -118,6 +118,11 @@ pub struct Kss {
     pub tris: Vec<PartitionTriangle>,
     /// Corridors.
     pub corrs: Vec<Corridor>,
+    /// Junctions `(prev, v, next)` of a corridor whose certificate keeps the
+    /// sign opposite to the one it has just after the current instant: it
+    /// fails at this instant and is handled as one of its events (see
+    /// [`Kss::normalize`]); empty between event instants.
+    pub held: std::collections::BTreeMap<CorrId, Vec<[Att; 3]>>,
 }
 
 impl Kss {
