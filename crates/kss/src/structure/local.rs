@@ -600,7 +600,7 @@ impl Kss {
             let limit = 2 * (len_a + len_b) + 8;
             for &start in &starts {
                 for ty in [Diagonal::SourceToTarget, Diagonal::TargetToSource] {
-                    if let Some((m, steps)) = self.walk(world, k, t, start, ty, limit, side) {
+                    if let Some((m, steps)) = self.walk(world, k, (t, side), start, ty, limit) {
                         if self.faces_valid_on(world, k, Some(m), t, side) {
                             self.corrs[ki].mid = Some(m);
                             return Some(steps.max(1));
@@ -616,16 +616,16 @@ impl Kss {
     }
 
     /// Walk a middle bridge of diagonal type `ty` from `start` until its four
-    /// tangency conditions hold.
+    /// tangency conditions hold just on `side` of `t`, in at most `limit`
+    /// steps.
     fn walk(
         &self,
         world: &World,
         k: CorrId,
-        t: &Time,
+        (t, side): (&Time, Side),
         start: (u32, u32),
         ty: Diagonal,
         limit: u32,
-        side: Side,
     ) -> Option<((u32, u32), u32)> {
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
