@@ -444,8 +444,10 @@ impl Kinetic {
                 let owner = *owners.first().ok_or("certificate without owner")?;
                 let out = self.kss.process(world, owner, p, middle, &t)?;
                 self.handling = Some(p);
+                self.kss.handling = Some(p);
                 let applied = self.apply(world, out, &t);
                 self.handling = None;
+                self.kss.handling = None;
                 applied?;
                 // a certificate that outlived the operation unchanged fails
                 // again if it is still wrong just after t

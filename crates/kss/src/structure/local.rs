@@ -279,10 +279,11 @@ impl Kss {
         side: Side,
     ) -> bool {
         let sign = |j: &Junction| turn_on(world, j.prev, j.v, j.next, t, side);
-        self.faces_valid_core(world, k, mid, t, side, &sign)
+        self.faces_valid_core(world, k, mid, (t, side), &sign, true)
     }
 
-    /// [`Kss::faces_valid`] with the junction signs given by `sign`.
+    /// [`Kss::faces_valid`] with the junction signs given by `sign`, on the
+    /// sign pattern alone.
     fn faces_valid_signed(
         &self,
         world: &World,
@@ -291,7 +292,7 @@ impl Kss {
         t: &Time,
         sign: &dyn Fn(&Junction) -> Sign,
     ) -> bool {
-        self.faces_valid_core(world, k, mid, t, Side::After, sign)
+        self.faces_valid_core(world, k, mid, (t, Side::After), sign, false)
     }
 
     fn faces_valid_core(
@@ -299,9 +300,9 @@ impl Kss {
         world: &World,
         k: CorrId,
         mid: Option<(u32, u32)>,
-        t: &Time,
-        side: Side,
+        (t, side): (&Time, Side),
         sign: &dyn Fn(&Junction) -> Sign,
+        clear: bool,
     ) -> bool {
         let c = &self.corrs[k.0 as usize];
         if let Some((i, j)) = mid {
@@ -320,12 +321,12 @@ impl Kss {
             let mut convex = 0;
             for j in &js {
                 let s = sign(j);
-                // a junction read with its real sign must also keep its
-                // polygon out of the face (a pseudo-triangle's sign pattern
-                // alone allows a face that wraps around a vertex)
-                if s == turn_on(world, j.prev, j.v, j.next, t, side)
-                    && !junction_clear(world, j, s, t, side)
-                {
+                // a junction must also keep its polygon out of the face (a
+                // pseudo-triangle's sign pattern alone allows a face that
+                // wraps around a vertex); not checked when some signs are
+                // held against the motion (the geometry just after the
+                // instant is the failing one until those are handled)
+                if clear && !junction_clear(world, j, s, t, side) {
                     return false;
                 }
                 match s {
@@ -475,11 +476,13 @@ impl Kss {
         // `t` read with their sign from just before `t` (all of them, or the
         // fewest that work); those junctions' certificates then fail at once
         // and are handled as further events of this instant.
-        let mut candidates: Vec<Option<(u32, u32)>> = Vec::new();
+        // the operation's own middle bridge first (the one from just before
+        // the instant may be what the operation just replaced)
+        let mut candidates: Vec<Option<(u32, u32)>> = vec![mid];
         if self.decompose(world, k, t, hint, Side::Before).is_some() {
             candidates.push(self.corrs[ki].mid);
         }
-        candidates.extend([mid, None]);
+        candidates.push(None);
         for m in candidates {
             if let Some(flips) = self.fewest_flips(world, k, m, t) {
                 self.corrs[ki].mid = m;
@@ -541,9 +544,20 @@ impl Kss {
                     &lin(world, j.v),
                     &lin(world, j.next),
                 );
-                p.sign_after(t) != Sign::Zero && p.sign_at(t) == Sign::Zero
+                p.sign_after(t) != Sign::Zero
+                    && p.sign_at(t) == Sign::Zero
+                    && self.handling.map(super::certs::rotate_to_min)
+                        != Some(super::certs::rotate_to_min([j.prev, j.v, j.next]))
             })
             .collect();
+        #[cfg(feature = "trace")]
+        eprintln!(
+            "fewest_flips mid {m:?}: {} junctions, zero at t: {:?}",
+            js.len(),
+            zero.iter()
+                .map(|&x| (js[x].prev, js[x].v, js[x].next))
+                .collect::<Vec<_>>()
+        );
         if zero.is_empty() || zero.len() > 10 {
             return None;
         }

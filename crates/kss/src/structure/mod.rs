@@ -123,6 +123,9 @@ pub struct Kss {
     /// fails at this instant and is handled as one of its events (see
     /// [`Kss::normalize`]); empty between event instants.
     pub held: std::collections::BTreeMap<CorrId, Vec<[Att; 3]>>,
+    /// The certificate (canonical triple) whose failure is being handled:
+    /// never held against the motion, or its event would repeat for ever.
+    pub handling: Option<[Att; 3]>,
 }
 
 impl Kss {
