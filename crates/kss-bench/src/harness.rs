@@ -13,8 +13,12 @@
 //!
 //! Cells a method cannot finish are shown, never waited for: a method that
 //! ran out of budget at one size of a series is not run at larger sizes,
-//! nor where its measured growth (quadratic in the number of polygons for
-//! all-pairs methods, linear otherwise) predicts more than twice the budget.
+//! nor where its wall time at the previous size, scaled by the growth of the
+//! work, predicts more than twice the budget. The work of the all-pairs
+//! methods (brute, parry-toi) on many polygons is their number of pair
+//! computations ([`Workload::all_pairs_work`]: quadratic in the number of
+//! polygons at the start, linear per collision); every other method's is
+//! linear in the series' size.
 
 use std::collections::HashMap;
 use std::fs;
@@ -73,6 +77,11 @@ pub struct CellOutcome {
     pub wall_seconds: f64,
     /// Scenario generation time.
     pub setup_seconds: f64,
+    /// Simulated time covered by the run: the scenario's `until`, or in
+    /// `stop` mode the instant of the first collision, where the run ends
+    /// (0 for cells that did not complete).
+    #[serde(default)]
+    pub sim_seconds: f64,
     /// The method's counters.
     pub counters: Counters,
     /// Peak resident memory during the run, KiB (child processes only).
@@ -85,6 +94,7 @@ impl CellOutcome {
             status,
             wall_seconds: 0.0,
             setup_seconds: 0.0,
+            sim_seconds: 0.0,
             counters: Counters::default(),
             peak_rss_kib: None,
         }
@@ -263,6 +273,10 @@ pub fn run_cell(
     );
     let wall_seconds = start.elapsed().as_secs_f64();
     let peak_rss_kib = if memory { peak_rss_kib() } else { None };
+    let sim_seconds = |events: &[Event]| match (scenario.on_collision, events.first()) {
+        (kss::CollisionMode::Stop, Some(e)) => e.time,
+        _ => scenario.until,
+    };
     let (status, counters, events) = match result {
         Ok((events, counters)) => {
             // a library structure cannot be stopped from outside in-process
@@ -286,6 +300,11 @@ pub fn run_cell(
     };
     (
         CellOutcome {
+            sim_seconds: if status == Status::Ok {
+                sim_seconds(&events)
+            } else {
+                0.0
+            },
             status,
             wall_seconds,
             setup_seconds,
@@ -393,7 +412,8 @@ pub fn run(
     on_progress(Progress::Start {
         cells: config.workloads.len() * config.methods.len(),
     });
-    // per (series, method): the last size run and its wall time, or over budget
+    // per (series, method): the work of the last size run and its wall time,
+    // or over budget
     let mut history: HashMap<(String, String), (f64, f64, bool)> = HashMap::new();
     let mut run = BenchRun {
         quick: config.quick,
@@ -423,15 +443,14 @@ pub fn run(
                 method: &mname,
             });
             let key = (series.clone(), mname.clone());
-            let predicted_over = history.get(&key).is_some_and(|&(z, wall, over)| {
-                let exponent = if workload.is_many_body()
-                    && matches!(method, Method::Brute | Method::ParryToi)
-                {
-                    2.0
+            let work =
+                if workload.is_many_body() && matches!(method, Method::Brute | Method::ParryToi) {
+                    workload.all_pairs_work()
                 } else {
-                    1.0
+                    size
                 };
-                over || wall * (size / z).powf(exponent) > 2.0 * config.budget_seconds
+            let predicted_over = history.get(&key).is_some_and(|&(w0, wall, over)| {
+                over || wall * (work / w0) > 2.0 * config.budget_seconds
             });
             let outcome = if workload.vertices() > config.max_vertices {
                 CellOutcome::not_run(Status::SkippedMemory)
@@ -455,12 +474,12 @@ pub fn run(
             };
             match outcome.status {
                 Status::Ok => {
-                    history.insert(key, (size, outcome.wall_seconds, false));
+                    history.insert(key, (work, outcome.wall_seconds, false));
                     let file = events_path(&config.events_dir, &wname, &mname);
                     events.insert(mname.clone(), read_events(&file)?);
                 }
                 Status::Budget | Status::SkippedBudget => {
-                    history.insert(key, (size, f64::INFINITY, true));
+                    history.insert(key, (work, f64::INFINITY, true));
                 }
                 _ => {}
             }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::{BenchRun, CellResult, Status};
+use crate::harness::{BenchRun, CellOutcome, CellResult, Status};
 use crate::workload::Workload;
 use crate::Method;
 
@@ -104,6 +104,36 @@ pub fn human_seconds(s: f64) -> String {
     } else {
         format!("{s:.2} s")
     }
+}
+
+/// A positive quantity with about three significant digits (integers from
+/// 100 up).
+pub fn format_sig(x: f64) -> String {
+    if !x.is_finite() {
+        return String::new();
+    }
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else if x >= 10.0 {
+        format!("{x:.1}")
+    } else if x >= 1.0 || x == 0.0 {
+        format!("{x:.2}")
+    } else {
+        let decimals = (2.0 - x.log10().floor()) as usize;
+        format!("{x:.decimals$}")
+    }
+}
+
+/// Events processed per simulated second of a completed cell.
+pub fn events_per_sim_second(o: &CellOutcome) -> Option<f64> {
+    (o.status == Status::Ok && o.sim_seconds > 0.0)
+        .then(|| o.counters.events as f64 / o.sim_seconds)
+}
+
+/// Wall-clock nanoseconds per processed event of a completed cell.
+pub fn ns_per_event(o: &CellOutcome) -> Option<f64> {
+    (o.status == Status::Ok && o.counters.events > 0)
+        .then(|| o.wall_seconds * 1e9 / o.counters.events as f64)
 }
 
 fn method_label(name: &str) -> String {
@@ -285,7 +315,10 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
         s.push('\n');
     }
 
-    // 3. every cell
+    // 3. events of the exact methods
+    events_section(&mut s, run, &workloads);
+
+    // 4. every cell
     let _ = writeln!(s, "\n## Every cell\n");
     let _ = writeln!(
         s,
@@ -295,15 +328,17 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
          narrow-phase time-of-impact computations (not reported by the library's \
          structures); `peak RSS`: the largest resident memory of the cell's process \
          while the method ran, the scene itself included (reset after building the \
-         scene, read from `VmHWM`).\n"
+         scene, read from `VmHWM`); `sim time`: the simulated time covered (the \
+         scenario's `until`, or the first collision in `stop` mode); `events / sim s` \
+         and `ns / event`: events per simulated second, and wall time per event.\n"
     );
     let _ = writeln!(
         s,
-        "| workload | method | status | wall | setup | collisions | events | certificates | pair tests | peak RSS (MiB) |"
+        "| workload | method | status | wall | setup | collisions | events | certificates | pair tests | peak RSS (MiB) | sim time | events / sim s | ns / event |"
     );
     let _ = writeln!(
         s,
-        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for (w, _) in &workloads {
         for me in &methods {
@@ -313,7 +348,7 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
             let num = |x: u64| if ok { x.to_string() } else { String::new() };
             let _ = writeln!(
                 s,
-                "| {w} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {w} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 method_label(me),
                 o.status.text(),
                 if ok {
@@ -339,6 +374,13 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
                 o.peak_rss_kib
                     .filter(|_| ok)
                     .map_or(String::new(), |k| format!("{:.1}", k as f64 / 1024.0)),
+                if ok && o.sim_seconds > 0.0 {
+                    format_sig(o.sim_seconds)
+                } else {
+                    String::new()
+                },
+                events_per_sim_second(o).map_or(String::new(), format_sig),
+                ns_per_event(o).map_or(String::new(), |x| format!("{x:.0}")),
             );
         }
     }
@@ -369,6 +411,123 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
          - Plots: `*.svg` beside this file."
     );
     s
+}
+
+/// The size a workload's series grows with, and its letter (`n` for
+/// flypast, `k` for the polygon counts, `p` for pairs).
+fn size_of(w: &Workload) -> (f64, &'static str) {
+    let (_, size) = w.series();
+    let letter = match w {
+        Workload::Flypast { .. } => "n",
+        Workload::Grazing { .. } | Workload::Parallel { .. } => "p",
+        _ => "k",
+    };
+    (size, letter)
+}
+
+/// Per family, for the exact methods that completed a cell of it: events,
+/// events per unit of size, events per simulated second, certificates (the
+/// largest number scheduled at once) and wall time per event, and the wall
+/// time against brute's.
+fn events_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<Workload>)]) {
+    let mut families: Vec<&'static str> = Vec::new();
+    for w in workloads.iter().filter_map(|(_, w)| w.as_ref()) {
+        if !families.contains(&w.family()) {
+            families.push(w.family());
+        }
+    }
+    let ok = |w: &str, me: &str| {
+        run.cell(w, me)
+            .filter(|c| c.outcome.status == Status::Ok)
+            .map(|c| &c.outcome)
+    };
+    let mut header = false;
+    for family in families {
+        let rows: Vec<(&String, &Workload)> = workloads
+            .iter()
+            .filter_map(|(name, w)| w.as_ref().map(|w| (name, w)))
+            .filter(|(_, w)| w.family() == family)
+            .collect();
+        let methods: Vec<&String> = run
+            .methods
+            .iter()
+            .filter(|me| Method::parse(me).is_ok_and(|m| m.is_exact()))
+            .filter(|me| rows.iter().any(|(w, _)| ok(w, me).is_some()))
+            .collect();
+        if methods.is_empty() {
+            continue;
+        }
+        if !header {
+            header = true;
+            let _ = writeln!(s, "\n## Events, certificates and time per event\n");
+            let _ = writeln!(
+                s,
+                "The exact methods only. `events`: what the method processed (the kinetic \
+                 structures: every certificate failure, collision and flight-plan change; \
+                 brute: only its collisions and flight-plan changes, which in `bounce` \
+                 mode include the end of each bounced body's short bridge, while its \
+                 pair-time computations are not events; sweep: swaps of box endpoints \
+                 too); \
+                 `/n`, `/k`, `/p`: per vertex of one polygon, per polygon, per pair; \
+                 `per sim s`: per simulated second; `certs`: the largest number of \
+                 certificates scheduled at once (brute: pair times queued); `ns/ev`: \
+                 wall time per event; `× brute`: wall time over brute's. Blank: the \
+                 cell did not complete (see the tables around).\n"
+            );
+        }
+        let letter = rows.first().map_or("k", |(_, w)| size_of(w).1);
+        let _ = writeln!(s, "### {family}\n");
+        let _ = write!(s, "| workload |");
+        let mut align = String::from("| --- |");
+        for me in &methods {
+            let l = method_label(me);
+            let _ = write!(
+                s,
+                " {l} events | {l} /{letter} | {l} per sim s | {l} certs | {l} ns/ev |"
+            );
+            align.push_str(" ---: | ---: | ---: | ---: | ---: |");
+            if me.as_str() != "brute" && run.methods.iter().any(|m| m == "brute") {
+                let _ = write!(s, " {l} × brute |");
+                align.push_str(" ---: |");
+            }
+        }
+        let _ = writeln!(s, "\n{align}");
+        for (w, wl) in &rows {
+            let (size, _) = size_of(wl);
+            let _ = write!(s, "| {w} |");
+            let brute = ok(w, "brute");
+            for me in &methods {
+                match ok(w, me) {
+                    Some(o) => {
+                        let _ = write!(
+                            s,
+                            " {} | {} | {} | {} | {} |",
+                            o.counters.events,
+                            format_sig(o.counters.events as f64 / size),
+                            events_per_sim_second(o).map_or(String::new(), format_sig),
+                            o.counters.certificates_max,
+                            ns_per_event(o).map_or(String::new(), |x| format!("{x:.0}")),
+                        );
+                    }
+                    None => {
+                        let text = run.cell(w, me).map_or(String::new(), status_short);
+                        let _ = write!(s, " {text} | | | | |");
+                    }
+                }
+                if me.as_str() != "brute" && run.methods.iter().any(|m| m == "brute") {
+                    let ratio = match (ok(w, me), brute) {
+                        (Some(o), Some(b)) if b.wall_seconds > 0.0 => {
+                            format_ratio(o.wall_seconds / b.wall_seconds)
+                        }
+                        _ => String::new(),
+                    };
+                    let _ = write!(s, " {ratio} |");
+                }
+            }
+            s.push('\n');
+        }
+        s.push('\n');
+    }
 }
 
 /// One line of a plot.
@@ -519,6 +678,16 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[Series])
 /// Wall-time series over the workloads selected by `pick` (which returns
 /// the x value), one per method that finished at least one of them.
 fn time_series(run: &BenchRun, pick: &dyn Fn(&Workload) -> Option<f64>) -> Vec<Series> {
+    value_series(run, pick, &|o| Some(o.wall_seconds.max(1e-7)))
+}
+
+/// Series of `value` (positive, or the point is left out) over the
+/// workloads selected by `pick`, one per method with at least one point.
+fn value_series(
+    run: &BenchRun,
+    pick: &dyn Fn(&Workload) -> Option<f64>,
+    value: &dyn Fn(&CellOutcome) -> Option<f64>,
+) -> Vec<Series> {
     run.methods
         .iter()
         .filter_map(|me| {
@@ -528,8 +697,10 @@ fn time_series(run: &BenchRun, pick: &dyn Fn(&Workload) -> Option<f64>) -> Vec<S
                 .filter_map(|w| {
                     let x = pick(&Workload::parse(w).ok()?)?;
                     let c = run.cell(w, me)?;
-                    (c.outcome.status == Status::Ok)
-                        .then_some((x, c.outcome.wall_seconds.max(1e-7)))
+                    if c.outcome.status != Status::Ok {
+                        return None;
+                    }
+                    value(&c.outcome).filter(|y| *y > 0.0).map(|y| (x, y))
                 })
                 .collect();
             (!points.is_empty()).then(|| Series {
@@ -569,6 +740,25 @@ pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
                 &series,
             ),
         ));
+        let series = value_series(
+            run,
+            &|w| match w {
+                Workload::Flypast { n, ratio } if *ratio == r => Some(*n as f64),
+                _ => None,
+            },
+            &|o| Some(o.counters.events as f64),
+        );
+        if !series.is_empty() {
+            out.push((
+                "flypast-events-vs-n.svg".into(),
+                loglog_plot(
+                    &format!("flypast, D/s = {r:e}: events processed against n"),
+                    "vertices per polygon n",
+                    "events",
+                    &series,
+                ),
+            ));
+        }
         let ns: Vec<usize> = parsed
             .iter()
             .filter_map(|w| match w {

@@ -229,8 +229,26 @@ impl Workload {
         }
     }
 
+    /// The pair computations of an all-pairs method on this workload, as a
+    /// cost model for predicting its growth: every pair of bodies once at
+    /// the start, and in `bounce` mode (the gas, with about as many
+    /// collisions as the name says) both bodies of a collision against all
+    /// others again. Flypast: one pair, however large the polygons.
+    pub fn all_pairs_work(&self) -> f64 {
+        let pairs = |bodies: usize| bodies as f64 * (bodies as f64 - 1.0) / 2.0;
+        match *self {
+            Workload::Flypast { .. } => 1.0,
+            Workload::Gas { k, collisions, .. } => {
+                let bodies = k + 4;
+                pairs(bodies) + 2.0 * collisions as f64 * bodies as f64
+            }
+            Workload::Cluster { k } | Workload::Swarm { k } | Workload::Far { k } => pairs(k),
+            Workload::Grazing { pairs: p } | Workload::Parallel { pairs: p } => pairs(2 * p),
+        }
+    }
+
     /// Whether the run's size grows with the number of polygons (all-pairs
-    /// methods then grow quadratically).
+    /// methods then grow as [`Workload::all_pairs_work`]).
     pub fn is_many_body(&self) -> bool {
         !matches!(self, Workload::Flypast { .. })
     }

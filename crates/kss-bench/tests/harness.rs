@@ -37,6 +37,7 @@ fn tiny_run_writes_a_report() {
             let c = run.cell(w, m).unwrap();
             assert_eq!(c.outcome.status, Status::Ok, "{w} {m}");
             assert!(c.comparison.as_ref().unwrap().identical, "{w} {m}");
+            assert!(c.outcome.sim_seconds > 0.0, "{w} {m}");
         }
         for m in ["parry-toi", "parry-step:30", "parry-step:240"] {
             let c = run.cell(w, m).unwrap();
@@ -56,6 +57,9 @@ fn tiny_run_writes_a_report() {
     let files = kss_bench::report::write(&out, &run, &machine).unwrap();
     let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
     assert!(md.contains("| cluster-k16 |"));
+    assert!(md.contains("## Events, certificates and time per event"));
+    assert!(md.contains("### gas") && md.contains("| sweep ns/ev |"));
+    assert!(md.contains("| events / sim s | ns / event |"));
     assert!(md.contains("parry-step dt=1/240"));
     assert!(files
         .iter()
@@ -79,6 +83,20 @@ fn names_round_trip() {
     }
     assert!(Method::parse("parry-step:0").is_err());
     assert!(Workload::parse("gas-k10").is_err());
+}
+
+#[test]
+fn all_pairs_work_grows_with_collisions_and_pairs() {
+    let gas = |k| Workload::Gas {
+        k,
+        n: 8,
+        collisions: 1000,
+    };
+    // 104 bodies: 5356 pairs at the start, 2 * 1000 * 104 recomputed
+    assert_eq!(gas(100).all_pairs_work(), 5356.0 + 208_000.0);
+    let growth = gas(1000).all_pairs_work() / gas(100).all_pairs_work();
+    assert!(growth > 10.0 && growth < 15.0, "{growth}");
+    assert_eq!(Workload::Cluster { k: 10 }.all_pairs_work(), 45.0);
 }
 
 #[test]
