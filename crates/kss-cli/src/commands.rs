@@ -141,6 +141,8 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "certificates_final": stats.certificates_final,
         "collisions": stats.collisions,
         "max_number_bits": stats.max_number_bits,
+        "rebuilds": stats.rebuilds,
+        "degenerate_rebuilds": stats.degenerate_rebuilds,
         "wall_seconds": wall_seconds,
     });
     let mut s = serde_json::to_string_pretty(&v).expect("stats serialize");

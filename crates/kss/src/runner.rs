@@ -81,6 +81,13 @@ pub struct RunStats {
     /// of a position or velocity) on any body's path during the run. It
     /// stays bounded however long a `bounce` run is (see [`crate::world`]).
     pub max_number_bits: u64,
+    /// Times the kinetic structure was rebuilt from scratch after polygons
+    /// were removed (0 for `brute`).
+    pub rebuilds: u64,
+    /// Times it was rebuilt for just after an instant where several
+    /// degeneracies coincide and the local operations found no valid
+    /// structure (0 for `brute`).
+    pub degenerate_rebuilds: u64,
 }
 
 /// Why a run could not complete.
@@ -268,6 +275,11 @@ trait Engine {
     fn certificates(&self) -> (u64, u64);
     /// Internal events by kind.
     fn internal_events(&self) -> BTreeMap<String, u64>;
+    /// Times the structure was rebuilt from scratch: after removals, and at
+    /// degenerate instants.
+    fn rebuilds(&self) -> (u64, u64) {
+        (0, 0)
+    }
 }
 
 struct BruteEngine(Brute);
@@ -326,12 +338,20 @@ struct PlainEngine {
     /// Audit after every internal event too (not only after collisions and
     /// flight-plan changes).
     audit: bool,
+    /// The last instant with contacts and how many times in a row contacts
+    /// were returned at it (a guard against a contact that keeps failing
+    /// after the collision response).
+    contact_instant: Option<(Time, u32)>,
 }
 
 impl PlainEngine {
     fn new(world: &World, audit: bool) -> Result<PlainEngine, RunError> {
         let k = Kinetic::new(world, &Rational::zero()).map_err(RunError::Internal)?;
-        Ok(PlainEngine { k, audit })
+        Ok(PlainEngine {
+            k,
+            audit,
+            contact_instant: None,
+        })
     }
 
     fn audit_now(&self, world: &World, now: &Time) -> Result<(), RunError> {
@@ -361,6 +381,7 @@ impl Engine for PlainEngine {
         let mut contacts: Vec<(BodyId, BodyId)> = Vec::new();
         let mut at: Option<Time> = None;
         let mut ops_now = 0u64;
+        let mut rebuilt_now = false;
         let mut last: Option<Time> = None;
         loop {
             if let Some(a) = &at {
@@ -388,12 +409,27 @@ impl Engine for PlainEngine {
                     if last.as_ref() == Some(&t) {
                         ops_now += 1;
                         if ops_now > 64 * (world.len() as u64 + 16) {
-                            return Err(RunError::Internal(format!(
-                                "no progress: {ops_now} operations at t = {t}"
-                            )));
+                            // the local operations cycle at a degenerate
+                            // instant: rebuild once for just after it
+                            if rebuilt_now {
+                                return Err(RunError::Internal(format!(
+                                    "no progress: {ops_now} operations at t = {t}"
+                                )));
+                            }
+                            if contacts.is_empty() {
+                                self.k
+                                    .rebuild_after(world, &t)
+                                    .map_err(RunError::Internal)?;
+                            } else {
+                                // after the collision response
+                                self.k.give_up_instant();
+                            }
+                            rebuilt_now = true;
+                            ops_now = 0;
                         }
                     } else {
                         ops_now = 0;
+                        rebuilt_now = false;
                         last = Some(t.clone());
                     }
                     if self.audit && contacts.is_empty() {
@@ -401,6 +437,18 @@ impl Engine for PlainEngine {
                     }
                 }
             }
+        }
+        if let Some(t) = &at {
+            let repeats = match &self.contact_instant {
+                Some((u, n)) if u == t => n + 1,
+                _ => 1,
+            };
+            if repeats > 64 {
+                return Err(RunError::Internal(format!(
+                    "no progress: contacts at t = {t} persist after {repeats} collision responses"
+                )));
+            }
+            self.contact_instant = Some((t.clone(), repeats));
         }
         Ok(at.map(|t| (t, contacts)))
     }
@@ -419,7 +467,9 @@ impl Engine for PlainEngine {
             self.k.rebuild(world, t).map_err(RunError::Internal)?;
             *self.k.counts.entry("rebuild").or_default() += 1;
         } else {
-            self.k.motion_changed(world, now, bodies);
+            self.k
+                .motion_changed(world, now, bodies)
+                .map_err(RunError::Internal)?;
         }
         Ok(())
     }
@@ -438,14 +488,20 @@ impl Engine for PlainEngine {
     }
 
     fn internal_events(&self) -> BTreeMap<String, u64> {
-        // `repair` (a normalization that had to search) and `rebuild` (after a
-        // removal) are not certificate failures: not counted as events
+        // `repair` (a normalization that had to search), `rebuild` (after a
+        // removal) and `degenerate_rebuild` are not certificate failures:
+        // not counted as events (see `rebuilds`)
         self.k
             .counts
             .iter()
-            .filter(|(k, _)| !matches!(**k, "repair" | "rebuild"))
+            .filter(|(k, _)| !matches!(**k, "repair" | "rebuild" | "degenerate_rebuild"))
             .map(|(k, v)| (k.to_string(), *v))
             .collect()
+    }
+
+    fn rebuilds(&self) -> (u64, u64) {
+        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
+        (get("rebuild"), get("degenerate_rebuild"))
     }
 }
 
@@ -568,6 +624,7 @@ fn drive(
     stats.events_by_kind = by_kind;
     stats.certificates_final = final_certs;
     stats.certificates_max = max_certs;
+    (stats.rebuilds, stats.degenerate_rebuilds) = engine.rebuilds();
     stats.collisions = collisions;
     stats.max_number_bits = max_bits;
     Ok(stats)

@@ -10,18 +10,20 @@ use kss::{run, RunOptions, Scenario, StructureKind};
 
 type Events = Vec<(Time, String, String)>;
 
-fn events(s: &Scenario, structure: StructureKind, audit: bool) -> Result<Events, String> {
+/// The events of a run and how often the structure was rebuilt at a
+/// degenerate instant.
+fn events(s: &Scenario, structure: StructureKind, audit: bool) -> Result<(Events, u64), String> {
     let mut out = Vec::new();
     let opts = RunOptions {
         structure,
         audit,
         ..Default::default()
     };
-    run(s, &opts, &mut |e| {
+    let stats = run(s, &opts, &mut |e| {
         out.push((e.time.clone(), e.a.clone(), e.b.clone()))
     })
     .map_err(|e| e.to_string())?;
-    Ok(out)
+    Ok((out, stats.degenerate_rebuilds))
 }
 
 fn seeds() -> u64 {
@@ -34,37 +36,49 @@ fn seeds() -> u64 {
     }
 }
 
-/// The families on which `plain` is expected to agree with `brute` today.
+/// The generic families: the local operations must handle every event.
 const GENERIC: [Family; 3] = [Family::Flypast, Family::Gas, Family::Far];
 
 /// The degenerate families (simultaneous contacts, grazing, sliding along a
-/// common line). Known failures remain (issue 3 is open): flush edge
-/// contacts and vertices sliding along another polygon's edge line can leave
-/// a corridor face that pinches without a certificate failing, and
-/// normalization then finds no decomposition. Run with
-/// `cargo test -p kss --release --test plain_vs_brute -- --ignored`.
+/// common line): where several degeneracies coincide at one instant the
+/// structure may fall back to a rebuild for just after it (counted, and
+/// bounded here so that the local operations stay the rule).
 const DEGENERATE: [Family; 3] = [Family::Simultaneous, Family::Grazing, Family::Parallel];
 
 #[test]
 fn plain_matches_brute_on_generic_families() {
-    sweep(&GENERIC);
+    let (total, rebuilds) = sweep(&GENERIC);
+    assert_eq!(
+        rebuilds, 0,
+        "rebuilds on generic families ({total} scenarios)"
+    );
 }
 
 #[test]
-#[ignore = "known failures on degenerate families (issue 3 open)"]
+#[ignore = "known failures on degenerate families (issue 3 open): see ARCHITECTURE.md"]
 fn plain_matches_brute_on_degenerate_families() {
-    sweep(&DEGENERATE);
+    let (total, rebuilds) = sweep(&DEGENERATE);
+    assert!(
+        rebuilds * 50 <= total as u64,
+        "{rebuilds} rebuilds in {total} degenerate scenarios"
+    );
 }
 
-fn sweep(families: &[Family]) {
+/// Run every seed of `families` with both structures; returns the number of
+/// scenarios and the rebuilds the plain structure needed.
+fn sweep(families: &[Family]) -> (usize, u64) {
     let mut total = 0usize;
+    let mut rebuilds = 0u64;
     let mut with_events = 0usize;
     let mut failures = Vec::new();
     for &family in families {
         for seed in 0..seeds() {
             let s = generate_small(family, seed);
-            let want = events(&s, StructureKind::Brute, false).expect("brute runs");
-            let got = events(&s, StructureKind::Plain, true);
+            let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
+            let got = events(&s, StructureKind::Plain, true).map(|(got, r)| {
+                rebuilds += r;
+                got
+            });
             total += 1;
             with_events += usize::from(!want.is_empty());
             match got {
@@ -81,7 +95,7 @@ fn sweep(families: &[Family]) {
         }
     }
     eprintln!(
-        "{total} scenarios, {with_events} with collisions, {} failures",
+        "{total} scenarios, {with_events} with collisions, {} failures, {rebuilds} rebuilds",
         failures.len()
     );
     for f in failures.iter().take(30) {
@@ -92,4 +106,5 @@ fn sweep(families: &[Family]) {
         with_events * 3 > total,
         "the sweep must exercise collisions"
     );
+    (total, rebuilds)
 }

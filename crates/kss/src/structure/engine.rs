@@ -54,6 +54,9 @@ pub struct Kinetic {
     later: Option<(Time, Vec<[Att; 3]>)>,
     /// The certificate whose failure is being handled.
     handling: Option<[Att; 3]>,
+    /// The local operations failed at an instant with contacts: the
+    /// structure is rebuilt when the collision response is applied.
+    broken: bool,
     /// Internal events by kind.
     pub counts: BTreeMap<&'static str, u64>,
 }
@@ -105,47 +108,62 @@ fn tie(world: &World, p: &[Att; 3]) -> u64 {
 }
 
 /// The pairs in contact at `t` for a contact failure of triple `p` between
-/// `a` and `b`: that pair, and any other pair of the triple's bodies that
-/// touches at `t` too (three polygons meeting at one point need not have a
-/// certificate that involves all three).
+/// `a` and `b`: that pair, and any other pair among the triple's bodies and
+/// the bodies at the corners of the partition triangles that end the
+/// certificate's corridors, that touches at `t` too (three polygons meeting
+/// at one point need not have a certificate that involves two of them).
 fn contact_pairs(
     world: &World,
+    kss: &Kss,
+    owners: &[Owner],
     p: &[Att; 3],
     t: &Time,
-    a: BodyId,
-    b: BodyId,
-    third: Option<BodyId>,
+    (a, b, third): (BodyId, BodyId, Option<BodyId>),
 ) -> Vec<(BodyId, BodyId)> {
     let mut v = vec![(a, b)];
     if let Some(c) = third {
         v.push((a, c));
         v.push((b, c));
-        return v;
     }
     let Some(r) = t.as_rational() else {
         return v;
     };
-    let bodies: BTreeSet<BodyId> = p
-        .iter()
-        .filter_map(|x| match x.obj {
-            Obj::Body(b) => Some(b),
-            Obj::Omega => None,
-        })
-        .collect();
-    let bodies: Vec<BodyId> = bodies.into_iter().collect();
-    for i in 0..bodies.len() {
-        for j in i + 1..bodies.len() {
-            let (x, y) = (bodies[i], bodies[j]);
-            if (x, y) == (a.min(b), a.max(b)) {
+    let mut near: BTreeSet<BodyId> = BTreeSet::new();
+    let mut add = |x: Att| {
+        if let Obj::Body(b) = x.obj {
+            near.insert(b);
+        }
+    };
+    p.iter().for_each(|&x| add(x));
+    for o in owners {
+        let tris: Vec<TriId> = match *o {
+            Owner::Tri(tri) => vec![tri],
+            Owner::Corr(k) => {
+                let c = &kss.corrs[k.0 as usize];
+                vec![c.s.0, c.t.0]
+            }
+        };
+        for tri in tris {
+            kss.tris[tri.0 as usize].c.iter().for_each(|&x| add(x));
+        }
+    }
+    let near: Vec<BodyId> = near.into_iter().collect();
+    for i in 0..near.len() {
+        for j in i + 1..near.len() {
+            let (x, y) = (near[i], near[j]);
+            if v.iter().any(|&(c, d)| (c.min(d), c.max(d)) == (x, y)) {
                 continue;
             }
             let (bx, by) = (world.body(x), world.body(y));
-            if crate::geom::placed_polygons_intersect(
-                &bx.shape,
-                &bx.traj.position_at(r),
-                &by.shape,
-                &by.traj.position_at(r),
-            ) {
+            if bx.alive
+                && by.alive
+                && crate::geom::placed_polygons_intersect(
+                    &bx.shape,
+                    &bx.traj.position_at(r),
+                    &by.shape,
+                    &by.traj.position_at(r),
+                )
+            {
                 v.push((x, y));
             }
         }
@@ -308,7 +326,12 @@ impl Kinetic {
     /// Bodies changed their motion at `now`: reschedule every certificate
     /// that involves one of them (flight-plan changes are local), and the
     /// certificates set aside at this instant.
-    pub fn motion_changed(&mut self, world: &World, now: &Time, bodies: &[BodyId]) {
+    pub fn motion_changed(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+    ) -> Result<(), String> {
         let set: BTreeSet<Obj> = bodies.iter().map(|&b| Obj::Body(b)).collect();
         let mut touched: Vec<[Att; 3]> = if set.is_empty() {
             Vec::new()
@@ -323,6 +346,16 @@ impl Kinetic {
         for p in touched {
             self.reschedule(world, &p, now);
         }
+        if self.broken {
+            self.rebuild_after(world, now)?;
+        }
+        Ok(())
+    }
+
+    /// Give up on the local operations at this instant (they cycle) and
+    /// rebuild once the collision response has been applied.
+    pub fn give_up_instant(&mut self) {
+        self.broken = true;
     }
 
     /// Pop and handle the earliest failure if it is at most `limit`.
@@ -355,7 +388,7 @@ impl Kinetic {
             if ps.is_empty() {
                 self.later = None;
             }
-            return self.handle(world, p, t, contacts);
+            return self.handle_or_rebuild(world, p, t, contacts);
         }
         let Some((key, t, tie, p)) = head else {
             return Ok(Step::Idle);
@@ -381,8 +414,9 @@ impl Kinetic {
         if tie == 0 {
             let cert = s.cert;
             if let Failure::Contact { a, b, third } = classify(world, &cert, &t) {
+                let owners = s.owners.clone();
                 self.waiting.push(p);
-                let pairs = contact_pairs(world, &p, &t, a, b, third);
+                let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third));
                 return Ok(Step::Contact(t, pairs));
             }
             if let Some((a, b)) = nearby_contact(world, &p, &t) {
@@ -395,7 +429,78 @@ impl Kinetic {
             }
             return Ok(Step::Deferred(t));
         }
-        self.handle(world, p, t, contacts)
+        self.handle_or_rebuild(world, p, t, contacts)
+    }
+
+    /// [`Kinetic::handle`], falling back to [`Kinetic::rebuild_after`] when
+    /// the local operations cannot resolve a degenerate instant (and no
+    /// contact is pending at it).
+    fn handle_or_rebuild(
+        &mut self,
+        world: &World,
+        p: [Att; 3],
+        t: Time,
+        contacts: &[(BodyId, BodyId)],
+    ) -> Result<Step, String> {
+        if self.broken {
+            return Ok(Step::Deferred(t));
+        }
+        match self.handle(world, p, t.clone(), contacts) {
+            Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
+                trace!("local operations failed at {}: {e}; rebuilding", t.to_f64());
+                self.rebuild_after(world, &t)
+                    .map_err(|r| format!("{e}; then {r}"))?;
+                Ok(Step::Internal(t))
+            }
+            Err(e) => {
+                // contacts at this instant: rebuild once the collision
+                // response has set the motions (`motion_changed`)
+                trace!(
+                    "local operations failed at {}: {e}; rebuilding after the response",
+                    t.to_f64()
+                );
+                let _ = e;
+                self.broken = true;
+                Ok(Step::Deferred(t))
+            }
+            other => other,
+        }
+    }
+
+    /// Rebuild the structure from scratch for the instants just after `now`:
+    /// built at a rational instant `at > now` so close to `now` that every
+    /// new certificate holds on all of `(now, at]`, then scheduled from
+    /// `now`. The fallback for instants where several degeneracies coincide
+    /// and the local operations find no valid structure (counted as
+    /// `degenerate_rebuild`; see ARCHITECTURE.md).
+    pub fn rebuild_after(&mut self, world: &World, now: &Time) -> Result<(), String> {
+        let f = now.to_f64();
+        let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
+        for _ in 0..200 {
+            let at = now.rational_between(&hi);
+            let at_t = Time::from_rational(at.clone());
+            if let Ok(mut fresh) = Kinetic::new(world, &at) {
+                let holds = fresh.certs.values().all(|s| {
+                    let p = cert_poly(world, &s.cert);
+                    p.sign_after(now) == Sign::Positive
+                        && p.first_failure_after(now).is_none_or(|f| f > at_t)
+                });
+                trace!("rebuild at {} holds {holds}", at_t.to_f64());
+                if holds {
+                    let keys: Vec<[Att; 3]> = fresh.certs.keys().copied().collect();
+                    for p in &keys {
+                        fresh.reschedule(world, p, now);
+                    }
+                    fresh.counts = std::mem::take(&mut self.counts);
+                    fresh.max_active = fresh.max_active.max(self.max_active);
+                    *fresh.counts.entry("degenerate_rebuild").or_default() += 1;
+                    *self = fresh;
+                    return Ok(());
+                }
+            }
+            hi = at_t;
+        }
+        Err(format!("no rebuild just after t = {now} found"))
     }
 
     /// Handle the failure of the (popped) certificate on `p` at `t`.
@@ -429,7 +534,7 @@ impl Kinetic {
         match classify(world, &cert, &t) {
             Failure::Contact { a, b, third } => {
                 self.waiting.push(p);
-                let pairs = contact_pairs(world, &p, &t, a, b, third);
+                let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third));
                 Ok(Step::Contact(t, pairs))
             }
             Failure::Between { middle, .. } => {
