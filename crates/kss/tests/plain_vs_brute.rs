@@ -55,7 +55,7 @@ fn plain_matches_brute_on_generic_families() {
 }
 
 #[test]
-#[ignore = "known failures on degenerate families (issue 3 open): see ARCHITECTURE.md"]
+#[ignore = "known failures on degenerate families in bounce mode (issue 3 open): see ARCHITECTURE.md"]
 fn plain_matches_brute_on_degenerate_families() {
     let (total, rebuilds) = sweep(&DEGENERATE);
     assert!(

@@ -41,6 +41,9 @@ pub struct Kinetic {
     /// The combinatorial structure.
     pub kss: Kss,
     certs: BTreeMap<[Att; 3], Scheduled>,
+    /// The certificates that involve each body (for local rescheduling when
+    /// a flight plan changes).
+    by_body: std::collections::HashMap<BodyId, BTreeSet<[Att; 3]>>,
     owned_tri: Vec<Vec<[Att; 3]>>,
     owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,
@@ -88,6 +91,20 @@ pub fn failure_time(world: &World, c: &Cert, now: &Time) -> Option<Time> {
         return Some(now.clone());
     }
     p.first_failure_after(now)
+}
+
+/// The distinct bodies of a triple.
+fn bodies_of(p: &[Att; 3]) -> Vec<BodyId> {
+    let mut v: Vec<BodyId> = p
+        .iter()
+        .filter_map(|a| match a.obj {
+            Obj::Body(b) => Some(b),
+            Obj::Omega => None,
+        })
+        .collect();
+    v.sort();
+    v.dedup();
+    v
 }
 
 /// Whether certificate `c` is already wrong just after `now` (it fails at
@@ -283,6 +300,9 @@ impl Kinetic {
                 None => {
                     let key = failure_time(world, &c, now)
                         .map(|t| self.queue.schedule(t, tie(world, &c.p), c.p));
+                    for b in bodies_of(&c.p) {
+                        self.by_body.entry(b).or_default().insert(c.p);
+                    }
                     self.certs.insert(
                         c.p,
                         Scheduled {
@@ -305,6 +325,11 @@ impl Kinetic {
 
     fn drop_cert(&mut self, p: &[Att; 3]) {
         if let Some(s) = self.certs.remove(p) {
+            for b in bodies_of(p) {
+                if let Some(set) = self.by_body.get_mut(&b) {
+                    set.remove(p);
+                }
+            }
             if let Some(k) = s.key {
                 self.queue.cancel(k);
             }
@@ -332,19 +357,39 @@ impl Kinetic {
         now: &Time,
         bodies: &[BodyId],
     ) -> Result<(), String> {
-        let set: BTreeSet<Obj> = bodies.iter().map(|&b| Obj::Body(b)).collect();
-        let mut touched: Vec<[Att; 3]> = if set.is_empty() {
-            Vec::new()
-        } else {
-            self.certs
-                .keys()
-                .filter(|p| p.iter().any(|a| set.contains(&a.obj)))
-                .copied()
-                .collect()
-        };
-        touched.append(&mut self.waiting);
+        let mut touched: Vec<[Att; 3]> = bodies
+            .iter()
+            .filter_map(|b| self.by_body.get(b))
+            .flatten()
+            .copied()
+            .collect::<BTreeSet<_>>()
+            .into_iter()
+            .collect();
+        let waiting = std::mem::take(&mut self.waiting);
+        touched.extend(waiting.iter().copied());
         for p in touched {
             self.reschedule(world, &p, now);
+        }
+        // a contact that the response turned into sliding (its turn is now
+        // zero for ever) is no longer a failure: its owners get their
+        // certificates anew (an order certificate for that triple)
+        for p in waiting {
+            let Some(s) = self.certs.get(&p) else {
+                continue;
+            };
+            if s.cert.kind == super::certs::CertKind::Order
+                || cert_poly(world, &s.cert).sign_after(now) != Sign::Zero
+            {
+                continue;
+            }
+            let owners = s.owners.clone();
+            self.handling = Some(p);
+            for o in owners {
+                if matches!(o, Owner::Corr(_)) {
+                    self.refresh(world, o, now)?;
+                }
+            }
+            self.handling = None;
         }
         if self.broken {
             self.rebuild_after(world, now)?;
