@@ -497,14 +497,13 @@ impl Kinetic {
                     .map_err(|r| format!("{e}; then {r}"))?;
                 Ok(Step::Internal(t))
             }
-            Err(e) => {
+            Err(_e) => {
                 // contacts at this instant: rebuild once the collision
                 // response has set the motions (`motion_changed`)
                 trace!(
-                    "local operations failed at {}: {e}; rebuilding after the response",
+                    "local operations failed at {}: {_e}; rebuilding after the response",
                     t.to_f64()
                 );
-                let _ = e;
                 self.broken = true;
                 Ok(Step::Deferred(t))
             }
