@@ -330,7 +330,8 @@ pub struct DemoArgs {
     /// Where to write the picture.
     #[arg(short, long, value_name = "FILE", default_value = "kss-demo.svg")]
     pub output: PathBuf,
-    /// The kinetic structure (falls back to brute if not implemented).
+    /// The kinetic structure (hierarchical falls back to plain while it is
+    /// not implemented).
     #[arg(long, value_enum, default_value_t = StructureArg::Hierarchical)]
     pub structure: StructureArg,
 }

@@ -557,11 +557,11 @@ pub fn demo(args: &DemoArgs) -> Result<(), CliError> {
         events.clear();
         match kss::run(&scenario, &options, &mut |e| events.push(e.clone())) {
             Ok(stats) => break stats,
-            Err(RunError::NotImplemented(name)) if structure != StructureKind::Brute => {
+            Err(RunError::NotImplemented(name)) if structure == StructureKind::Hierarchical => {
                 eprintln!(
-                    "kss demo: the {name} structure is not implemented yet; falling back to brute"
+                    "kss demo: the {name} structure is not implemented yet; falling back to plain"
                 );
-                structure = StructureKind::Brute;
+                structure = StructureKind::Plain;
             }
             Err(e) => return Err(CliError::from_run("demo", e)),
         }
