@@ -266,8 +266,11 @@ impl Kinetic {
             };
             s.owners.retain(|&x| x != o);
             if s.owners.is_empty() {
-                let cert = s.cert;
-                if self.handling != Some(*p) && is_failing(world, &cert, now) {
+                let (cert, key) = (s.cert, s.key);
+                if self.handling != Some(*p)
+                    && self.due_now(p, key, now)
+                    && is_failing(world, &cert, now)
+                {
                     pending.insert(*p, cert);
                 }
                 self.drop_cert(p);
@@ -321,6 +324,20 @@ impl Kinetic {
         }
         self.max_active = self.max_active.max(self.queue.len());
         Ok(())
+    }
+
+    /// Whether the certificate on `p` (queued under `key`) can be failing at
+    /// `now`: queued at `now`, or popped at this instant and set aside. A
+    /// failing certificate is always one of these, so the exact test need not
+    /// run for the others (most of the certificates an operation replaces).
+    fn due_now(&self, p: &[Att; 3], key: Option<EventKey>, now: &Time) -> bool {
+        match key {
+            Some(k) => self.queue.get(k).is_some_and(|(t, _)| t == now),
+            None => {
+                self.waiting.contains(p)
+                    || self.later.as_ref().is_some_and(|(_, ps)| ps.contains(p))
+            }
+        }
     }
 
     fn drop_cert(&mut self, p: &[Att; 3]) {
