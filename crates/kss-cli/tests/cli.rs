@@ -821,8 +821,9 @@ fn run_survives_a_closed_pipe() {
     assert_eq!(o.status.code(), Some(0));
 }
 
-#[test]
-fn render_writes_an_svg() {
+/// `kss render` of the two triangles (`stop` mode) at `time` with
+/// `structure`: the process output and the SVG written.
+fn render_two_triangles(time: &str, structure: &str) -> (std::process::Output, String) {
     let dir = temp_dir();
     let scenario = dir.join("s.json");
     std::fs::write(&scenario, two_triangles("stop")).unwrap();
@@ -832,9 +833,9 @@ fn render_writes_an_svg() {
             "render",
             scenario.to_str().unwrap(),
             "--time",
-            "0.5",
+            time,
             "--structure",
-            "brute",
+            structure,
             "-o",
             svg.to_str().unwrap(),
         ],
@@ -842,9 +843,15 @@ fn render_writes_an_svg() {
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let text = std::fs::read_to_string(&svg).unwrap();
+    let _ = std::fs::remove_dir_all(dir);
+    (o, text)
+}
+
+#[test]
+fn render_writes_an_svg() {
+    let (_, text) = render_two_triangles("0.5", "brute");
     assert!(text.starts_with("<svg") && text.contains("t = 0.5"));
     assert_eq!(text.matches("<polygon").count(), 2);
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -967,30 +974,11 @@ fn render_plain_draws_the_structure() {
 
 #[test]
 fn render_plain_after_a_stop_explains_the_missing_structure() {
-    let dir = temp_dir();
-    let scenario = dir.join("s.json");
     // the triangles touch at t = 1 and the run stops there
-    std::fs::write(&scenario, two_triangles("stop")).unwrap();
-    let svg = dir.join("out.svg");
-    let o = run_kss(
-        &[
-            "render",
-            scenario.to_str().unwrap(),
-            "--time",
-            "3",
-            "--structure",
-            "plain",
-            "-o",
-            svg.to_str().unwrap(),
-        ],
-        None,
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (o, text) = render_two_triangles("3", "plain");
     assert!(stderr(&o).contains("structure not drawn"), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&svg).unwrap();
     assert_well_formed(&text);
     assert!(text.contains("structure not drawn") && !text.contains("partition-triangle"));
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]

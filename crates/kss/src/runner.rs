@@ -117,6 +117,25 @@ pub fn run(
     Ok(stats)
 }
 
+/// The alive polygons of `world` as drawn, vertex `i` of body `b` at
+/// `vertex(b, i)` (display only).
+fn snapshot_polygons(
+    world: &World,
+    vertex: impl Fn(&crate::world::Body, usize) -> [f64; 2],
+) -> Vec<crate::render::SnapshotPolygon> {
+    world
+        .bodies()
+        .iter()
+        .filter(|b| b.alive)
+        .map(|b| crate::render::SnapshotPolygon {
+            id: b.id.clone(),
+            vertices: (0..b.shape.len()).map(|i| vertex(b, i)).collect(),
+            fixed: b.fixed,
+            velocity: b.traj.velocity().to_f64(),
+        })
+        .collect()
+}
+
 /// Run `scenario` up to `time` (collisions handled as in [`run`]) and return
 /// the scene at that instant, for pictures.
 pub fn snapshot_at(
@@ -128,19 +147,7 @@ pub fn snapshot_at(
     let mut world = World::new(scenario, options.until)?;
     let mut engine = make_engine(&world, options)?;
     drive(&mut world, engine.as_mut(), options, Some(&t), &mut |_| {})?;
-    let polygons = world
-        .bodies()
-        .iter()
-        .filter(|b| b.alive)
-        .map(|b| crate::render::SnapshotPolygon {
-            id: b.id.clone(),
-            vertices: (0..b.shape.len())
-                .map(|i| b.vertex(i).at_f64(time))
-                .collect(),
-            fixed: b.fixed,
-            velocity: b.traj.velocity().to_f64(),
-        })
-        .collect();
+    let polygons = snapshot_polygons(&world, |b, i| b.vertex(i).at_f64(time));
     Ok(crate::render::Snapshot {
         time,
         polygons,
@@ -214,19 +221,7 @@ pub fn structure_snapshot_at(
 ) -> Result<crate::render::Snapshot, RunError> {
     let state = plain_state_at(scenario, options, time)?;
     let world = &state.world;
-    let polygons = world
-        .bodies()
-        .iter()
-        .filter(|b| b.alive)
-        .map(|b| crate::render::SnapshotPolygon {
-            id: b.id.clone(),
-            vertices: (0..b.shape.len())
-                .map(|i| b.vertex_at(i, &state.time).to_f64())
-                .collect(),
-            fixed: b.fixed,
-            velocity: b.traj.velocity().to_f64(),
-        })
-        .collect();
+    let polygons = snapshot_polygons(world, |b, i| b.vertex_at(i, &state.time).to_f64());
     let structure = match &state.ended {
         None => crate::structure::view::overlay(world, &state.kinetic, &state.time, highlight),
         Some(end) => crate::render::StructureOverlay {
