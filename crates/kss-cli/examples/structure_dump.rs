@@ -19,7 +19,7 @@ fn main() {
     let mut k = Kinetic::new(&world, &Rational::zero()).unwrap();
     let lim = Time::from_f64(until).unwrap();
     loop {
-        match k.step(&world, &lim, &[]).unwrap() {
+        match k.step(&world, &lim, &[], &|_, _, _| true).unwrap() {
             Step::Idle => break,
             st => eprintln!("{st:?}"),
         }

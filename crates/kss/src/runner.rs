@@ -337,6 +337,10 @@ struct PlainEngine {
     /// were returned at it (a guard against a contact that keeps failing
     /// after the collision response).
     contact_instant: Option<(Time, u32)>,
+    /// The pairs that had a collision response at the latest instant with
+    /// one (`bounce` mode): a later failure between them at that instant is
+    /// a collision again only if they still interpenetrate just after it.
+    responded: Option<(Time, Vec<(BodyId, BodyId)>)>,
 }
 
 impl PlainEngine {
@@ -346,6 +350,7 @@ impl PlainEngine {
             k,
             audit,
             contact_instant: None,
+            responded: None,
         })
     }
 
@@ -384,9 +389,29 @@ impl Engine for PlainEngine {
                     break;
                 }
             }
+            let responded = &self.responded;
+            // the reference's rule for a touching pair: a collision if the
+            // contact begins now, or, after the pair's collision response at
+            // this instant, if they still interpenetrate
+            let collides = |a: BodyId, b: BodyId, t: &Time| -> bool {
+                let Some(r) = t.as_rational() else {
+                    return true;
+                };
+                let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
+                let answered = responded
+                    .as_ref()
+                    .is_some_and(|(rt, pairs)| rt == t && pairs.contains(&(a.min(b), a.max(b))));
+                if answered {
+                    return interval.next_contact(r).as_ref() == Some(r);
+                }
+                match interval {
+                    crate::brute::ContactInterval::During { start: Some(s), .. } => s == *r,
+                    _ => false,
+                }
+            };
             match self
                 .k
-                .step(world, limit, &contacts)
+                .step(world, limit, &contacts, &collides)
                 .map_err(RunError::Internal)?
             {
                 Step::Idle => break,
@@ -453,8 +478,15 @@ impl Engine for PlainEngine {
         world: &World,
         now: &Time,
         bodies: &[BodyId],
-        _reported: &[(BodyId, BodyId)],
+        reported: &[(BodyId, BodyId)],
     ) -> Result<(), RunError> {
+        if !reported.is_empty() {
+            let pairs = reported.iter().map(|&(a, b)| (a.min(b), a.max(b)));
+            match &mut self.responded {
+                Some((t, v)) if t == now => v.extend(pairs),
+                r => *r = Some((now.clone(), pairs.collect())),
+            }
+        }
         if bodies.iter().any(|&b| !world.body(b).alive) {
             let t = now
                 .as_rational()

@@ -8,7 +8,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::certs::Cert;
-use super::events::{classify, nearby_contact, Failure};
+use super::events::{classify, nearby_contact, settled_between, Failure};
 use super::ops::{Outcome, Owner};
 use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::orient_poly;
@@ -382,6 +382,13 @@ impl Kinetic {
             .collect::<BTreeSet<_>>()
             .into_iter()
             .collect();
+        for &_b in bodies {
+            trace!(
+                "motion of {_b:?} at {}: {:?}",
+                now.to_f64(),
+                world.body(_b).traj.velocity().to_f64()
+            );
+        }
         let waiting = std::mem::take(&mut self.waiting);
         touched.extend(waiting.iter().copied());
         for p in touched {
@@ -427,12 +434,18 @@ impl Kinetic {
     /// structural operation: the contacts are reported, and failures that
     /// involve a body in contact at this instant are set aside until the
     /// collision response has changed the motions (`contacts` lists the pairs
-    /// found so far at this instant).
+    /// found so far at this instant). `collides(a, b, t)` says whether a
+    /// touch of the pair at `t` is a collision (the driver's rule: a contact
+    /// that begins at `t`, or one that still interpenetrates after its
+    /// collision response); a touch that is not one (two bodies that slide
+    /// along each other reach the end of an edge, or a pair that the
+    /// response already separates) is a structural event.
     pub fn step(
         &mut self,
         world: &World,
         limit: &Time,
         contacts: &[(BodyId, BodyId)],
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, String> {
         let head = self
             .queue
@@ -450,7 +463,7 @@ impl Kinetic {
             if ps.is_empty() {
                 self.later = None;
             }
-            return self.handle_or_rebuild(world, p, t, contacts);
+            return self.handle_or_rebuild(world, p, t, contacts, collides);
         }
         let Some((key, t, tie, p)) = head else {
             return Ok(Step::Idle);
@@ -475,23 +488,30 @@ impl Kinetic {
         );
         if tie == 0 {
             let cert = s.cert;
-            if let Failure::Contact { a, b, third } = classify(world, &cert, &t) {
-                let owners = s.owners.clone();
+            let pairs = match classify(world, &cert, &t) {
+                Failure::Contact { a, b, third } => {
+                    let owners = s.owners.clone();
+                    contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third))
+                }
+                Failure::Between { .. } => nearby_contact(world, &p, &t).into_iter().collect(),
+            };
+            let pairs: Vec<(BodyId, BodyId)> = pairs
+                .into_iter()
+                .filter(|&(a, b)| collides(a, b, &t))
+                .collect();
+            if !pairs.is_empty() {
                 self.waiting.push(p);
-                let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third));
                 return Ok(Step::Contact(t, pairs));
             }
-            if let Some((a, b)) = nearby_contact(world, &p, &t) {
-                self.waiting.push(p);
-                return Ok(Step::Contact(t, vec![(a, b)]));
-            }
+            // not a contact, or a touch that is not a collision: a
+            // structural failure
             match &mut self.later {
                 Some((_, ps)) => ps.push(p),
                 None => self.later = Some((t.clone(), vec![p])),
             }
             return Ok(Step::Deferred(t));
         }
-        self.handle_or_rebuild(world, p, t, contacts)
+        self.handle_or_rebuild(world, p, t, contacts, collides)
     }
 
     /// [`Kinetic::handle`], falling back to [`Kinetic::rebuild_after`] when
@@ -503,11 +523,12 @@ impl Kinetic {
         p: [Att; 3],
         t: Time,
         contacts: &[(BodyId, BodyId)],
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, String> {
         if self.broken {
             return Ok(Step::Deferred(t));
         }
-        match self.handle(world, p, t.clone(), contacts) {
+        match self.handle(world, p, t.clone(), contacts, collides) {
             Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
                 trace!("local operations failed at {}: {e}; rebuilding", t.to_f64());
                 self.rebuild_after(world, &t)
@@ -540,7 +561,11 @@ impl Kinetic {
         for _ in 0..200 {
             let at = now.rational_between(&hi);
             let at_t = Time::from_rational(at.clone());
-            if let Ok(mut fresh) = Kinetic::new(world, &at) {
+            let built = Kinetic::new(world, &at);
+            if let Err(_e) = &built {
+                trace!("rebuild at {} failed: {_e}", at_t.to_f64());
+            }
+            if let Ok(mut fresh) = built {
                 let holds = fresh.certs.values().all(|s| {
                     let p = cert_poly(world, &s.cert);
                     p.sign_after(now) == Sign::Positive
@@ -571,6 +596,7 @@ impl Kinetic {
         p: [Att; 3],
         t: Time,
         contacts: &[(BodyId, BodyId)],
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, String> {
         let Some(s) = self.certs.get(&p) else {
             return Ok(Step::Deferred(t)); // replaced by an earlier operation
@@ -592,12 +618,36 @@ impl Kinetic {
             owners,
             classify(world, &cert, &t)
         );
-        match classify(world, &cert, &t) {
-            Failure::Contact { a, b, third } => {
+        let mut failure = classify(world, &cert, &t);
+        if let Failure::Contact { a, b, third } = failure {
+            let pairs: Vec<(BodyId, BodyId)> =
+                contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third))
+                    .into_iter()
+                    .filter(|&(a, b)| collides(a, b, &t))
+                    .collect();
+            if !pairs.is_empty() {
                 self.waiting.push(p);
-                let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third));
-                Ok(Step::Contact(t, pairs))
+                return Ok(Step::Contact(t, pairs));
             }
+            // two polygons touch but do not collide (they slid along each
+            // other, or the collision response at this instant already
+            // separates them): a structural event at the touching vertex
+            // if there is one
+            match settled_between(world, &cert, &t) {
+                Some(f) => failure = f,
+                None => {
+                    trace!("settled contact at {}: rebuilding", t.to_f64());
+                    if contacts.is_empty() && self.waiting.is_empty() {
+                        self.rebuild_after(world, &t)?;
+                        return Ok(Step::Internal(t));
+                    }
+                    self.broken = true;
+                    return Ok(Step::Deferred(t));
+                }
+            }
+        }
+        match failure {
+            Failure::Contact { .. } => unreachable!("contacts are handled above"),
             Failure::Between { middle, .. } => {
                 let near_contact = contacts.iter().any(|&(a, b)| {
                     p.iter()

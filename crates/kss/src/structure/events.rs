@@ -96,6 +96,36 @@ pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
     }
 }
 
+/// The structural reading of a failure that [`classify`] calls a contact,
+/// for a pair whose collision response at this instant already separates it
+/// (or lets it slide): when a vertex `y` of one body coincides with a vertex
+/// `x` of another and the third point `z` is on `x`'s body, `x` is the middle
+/// (the bridge or junction through `z` and `y` reaches `x`'s polygon at
+/// `x`). `None` when no such reading exists (three bodies meet, or the
+/// touch is inside an edge).
+pub fn settled_between(world: &World, c: &Cert, t: &Time) -> Option<Failure> {
+    let r = t.as_rational()?;
+    let pos = |a: Att| super::build::position(world, a, r).expect("finite");
+    for (i, j, k) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
+        let (p, q, z) = (c.p[i], c.p[j], c.p[k]);
+        if p.obj == q.obj || pos(p) != pos(q) {
+            continue;
+        }
+        let (x, y) = if z.obj == p.obj {
+            (p, q)
+        } else if z.obj == q.obj {
+            (q, p)
+        } else {
+            return None;
+        };
+        return Some(Failure::Between {
+            middle: x,
+            ends: (y, z),
+        });
+    }
+    None
+}
+
 /// For a failure of a vertex against the line of another body's polygon
 /// edge that is not itself a contact (the vertex is beyond an end of the
 /// edge), whether the two bodies nevertheless touch at `t` right there: a

@@ -111,6 +111,23 @@ pub fn straight_forever(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool
     pu.sub(&pv).dot(&pw.sub(&pv)).sign() == Sign::Negative
 }
 
+/// Whether `u`, `v`, `w` (on one line for ever, with a zero turn just after
+/// `t`) make a cusp just after `t`: `u` and `w` on the same side of `v`, on
+/// at least two bodies. Two bodies that slide along each other pinch a face
+/// this way; the cusp is a convex corner of angle zero, and the order
+/// certificate of the triple ends it.
+pub fn cusp_forever(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool {
+    let d = crate::motion::dot_poly(&lin(world, v), &lin(world, u), &lin(world, w));
+    (u.obj != v.obj || w.obj != v.obj) && d.sign_after(t) == Sign::Positive
+}
+
+fn lin(world: &World, a: Att) -> crate::motion::LinearPoint {
+    match a.obj {
+        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Omega => unreachable!("a finite point was expected"),
+    }
+}
+
 /// Whether `x` and `y` are the two ends of one polygon edge.
 pub fn poly_edge(world: &World, x: Att, y: Att) -> bool {
     x.obj == y.obj && !x.is_omega() && (step_ccw(world, x) == y || step_ccw(world, y) == x)
@@ -182,6 +199,9 @@ impl Kss {
                         Sign::Positive => convex += 1,
                         Sign::Negative => {}
                         Sign::Zero if straight_forever(world, u, v, w, t) => {}
+                        // a cusp: two bodies sliding along each other pinch
+                        // the face (a convex corner of angle zero)
+                        Sign::Zero if cusp_forever(world, u, v, w, t) => convex += 1,
                         Sign::Zero => {
                             return Err(format!("corridor {ki} face {fi}: zero angle at {v:?}"));
                         }

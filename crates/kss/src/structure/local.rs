@@ -126,12 +126,15 @@ fn junction_clear(world: &World, j: &Junction, s: Sign, t: &Time, side: Side) ->
     let tn = |a, b, c| turn_on(world, a, b, c, t, side);
     // the polygon's corner at v: left of (down → v) and of (v → up)
     let in_corner = |w: Att| tn(down, v, w) == Sign::Positive && tn(v, up, w) == Sign::Positive;
+    // a zero turn is straight, or a cusp (an angle of zero: two bodies
+    // sliding along each other pinch the face)
+    let cusp = s == Sign::Zero && !between_on(world, j.prev, v, j.next, t, side);
     let in_face = |x: Att| {
         let (l, r) = (tn(j.prev, v, x), tn(v, j.next, x));
         match s {
             Sign::Positive => l == Sign::Positive && r == Sign::Positive,
             Sign::Negative => l == Sign::Positive || r == Sign::Positive,
-            Sign::Zero => l == Sign::Positive,
+            Sign::Zero => !cusp && l == Sign::Positive,
         }
     };
     for w in [j.prev, j.next] {
@@ -333,7 +336,16 @@ impl Kss {
                     Sign::Positive => convex += 1,
                     Sign::Negative => {}
                     Sign::Zero => {
-                        if !between_on(world, j.prev, j.v, j.next, t, side) {
+                        // a zero turn just after an instant is zero for
+                        // ever (a vertex sliding along an edge's line):
+                        // straight, or a cusp (a convex corner of angle
+                        // zero, where two sliding bodies pinch the face)
+                        if between_on(world, j.prev, j.v, j.next, t, side) {
+                        } else if between_on(world, j.v, j.prev, j.next, t, side)
+                            || between_on(world, j.v, j.next, j.prev, t, side)
+                        {
+                            convex += 1;
+                        } else {
                             return false;
                         }
                     }
