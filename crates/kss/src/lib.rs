@@ -12,6 +12,7 @@
 //! - [`scenario`]: the input data and its errors; [`gen`]: scenario generators.
 //! - [`num`]: exact numbers and the exact, filtered order of event [`num::Time`]s.
 //! - [`geom`], [`motion`]: exact predicates and certificate functions.
+//! - [`hier`]: the per-polygon hierarchy of outer approximations (static).
 //! - [`sim`]: the event queue; [`world`]: bodies, flight plans, collision policy.
 //! - [`brute`]: the all-pairs reference; [`render`]: SVG pictures.
 //!
@@ -76,6 +77,7 @@
 pub mod brute;
 pub mod gen;
 pub mod geom;
+pub mod hier;
 pub mod motion;
 pub mod num;
 pub mod render;

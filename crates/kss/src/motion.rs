@@ -108,6 +108,32 @@ impl Frame {
             w: self.w.clone(),
         }
     }
+
+    /// The moving world position of the body-frame point `(x/w, y/w)` given
+    /// in homogeneous integer coordinates (`w > 0`) on the grid of the body
+    /// polygon this frame was built for (units `2^exp`, `exp` its
+    /// [`BodyPolygon::exp`]), such as an approximation vertex of the
+    /// hierarchy. For `(X_i, Y_i, 1)` this is exactly [`Frame::vertex`]`(body, i)`;
+    /// otherwise numerators and denominator are multiplied by `w`.
+    pub fn homogeneous(&self, x: &Int, y: &Int, w: &Int) -> LinearPoint {
+        debug_assert!(*w > Int::ZERO, "homogeneous weight must be positive");
+        if w.is_one() {
+            return LinearPoint {
+                x0: &self.ox + &self.m * x,
+                x1: self.vx.clone(),
+                y0: &self.oy + &self.m * y,
+                y1: self.vy.clone(),
+                w: self.w.clone(),
+            };
+        }
+        LinearPoint {
+            x0: &self.ox * w + &self.m * x,
+            x1: &self.vx * w,
+            y0: &self.oy * w + &self.m * y,
+            y1: &self.vy * w,
+            w: &self.w * w,
+        }
+    }
 }
 
 /// A point moving linearly: `((x0 + x1·t)/w, (y0 + y1·t)/w)`, integers, `w > 0`.
