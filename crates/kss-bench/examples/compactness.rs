@@ -156,6 +156,7 @@ fn main() {
                     _ => regular_scene(k, n, seed),
                 };
                 let world = World::new(&scenario, None).expect("a valid scene");
+                let world = kss::structure::geo::Geo::plain(&world);
                 let vertices: usize = world.bodies().iter().map(|b| b.shape.len()).sum();
                 let start = Instant::now();
                 let kinetic = Kinetic::new(&world, &Rational::zero()).expect("the structure");

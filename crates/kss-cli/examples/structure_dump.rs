@@ -5,6 +5,7 @@
 //! `cargo run -p kss-cli --example structure_dump -- SCENARIO.json TIME BODY BODY`
 use kss::num::{Rational, Time};
 use kss::structure::engine::{Kinetic, Step};
+use kss::structure::geo::Geo;
 use kss::structure::Obj;
 use kss::world::{BodyId, World};
 
@@ -16,6 +17,7 @@ fn main() {
     let x: u32 = a[3].parse().unwrap();
     let y: u32 = a[4].parse().unwrap();
     let world = World::new(&s, None).unwrap();
+    let world = Geo::plain(&world);
     let mut k = Kinetic::new(&world, &Rational::zero()).unwrap();
     let lim = Time::from_f64(until).unwrap();
     loop {

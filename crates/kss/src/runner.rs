@@ -6,6 +6,7 @@ use crate::brute::{Brute, PairMethod};
 use crate::num::{Rational, Time};
 use crate::scenario::{CollisionMode, Scenario, ScenarioError};
 use crate::structure::engine::{Kinetic, Step};
+use crate::structure::geo::Geo;
 use crate::world::{BodyId, World};
 
 /// Which kinetic structure computes the collisions.
@@ -223,7 +224,12 @@ pub fn structure_snapshot_at(
     let world = &state.world;
     let polygons = snapshot_polygons(world, |b, i| b.vertex_at(i, &state.time).to_f64());
     let structure = match &state.ended {
-        None => crate::structure::view::overlay(world, &state.kinetic, &state.time, highlight),
+        None => crate::structure::view::overlay(
+            &Geo::plain(world),
+            &state.kinetic,
+            &state.time,
+            highlight,
+        ),
         Some(end) => crate::render::StructureOverlay {
             note: Some(format!(
                 "structure not drawn: the run ended at t = {} ({})",
@@ -345,7 +351,7 @@ struct PlainEngine {
 
 impl PlainEngine {
     fn new(world: &World, audit: bool) -> Result<PlainEngine, RunError> {
-        let k = Kinetic::new(world, &Rational::zero()).map_err(RunError::Internal)?;
+        let k = Kinetic::new(&Geo::plain(world), &Rational::zero()).map_err(RunError::Internal)?;
         Ok(PlainEngine {
             k,
             audit,
@@ -368,7 +374,7 @@ impl PlainEngine {
             return Ok(());
         }
         let at = now.rational_between(&next);
-        self.k.audit(world, now, &at).map_err(|e| {
+        self.k.audit(&Geo::plain(world), now, &at).map_err(|e| {
             RunError::Internal(format!(
                 "audit failed after an internal event at t = {now}: {e}"
             ))
@@ -411,7 +417,7 @@ impl Engine for PlainEngine {
             };
             match self
                 .k
-                .step(world, limit, &contacts, &collides)
+                .step(&Geo::plain(world), limit, &contacts, &collides)
                 .map_err(RunError::Internal)?
             {
                 Step::Idle => break,
@@ -438,7 +444,7 @@ impl Engine for PlainEngine {
                             }
                             if contacts.is_empty() {
                                 self.k
-                                    .rebuild_after(world, &t)
+                                    .rebuild_after(&Geo::plain(world), &t)
                                     .map_err(RunError::Internal)?;
                             } else {
                                 // after the collision response
@@ -491,11 +497,13 @@ impl Engine for PlainEngine {
             let t = now
                 .as_rational()
                 .ok_or_else(|| RunError::Internal("irrational world time".into()))?;
-            self.k.rebuild(world, t).map_err(RunError::Internal)?;
+            self.k
+                .rebuild(&Geo::plain(world), t)
+                .map_err(RunError::Internal)?;
             *self.k.counts.entry("rebuild").or_default() += 1;
         } else {
             self.k
-                .motion_changed(world, now, bodies)
+                .motion_changed(&Geo::plain(world), now, bodies)
                 .map_err(RunError::Internal)?;
         }
         Ok(())
@@ -506,7 +514,7 @@ impl Engine for PlainEngine {
     }
 
     fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
-        self.k.audit(world, now, at)
+        self.k.audit(&Geo::plain(world), now, at)
     }
 
     fn certificates(&self) -> (u64, u64) {

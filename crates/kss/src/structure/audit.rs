@@ -1,7 +1,7 @@
 //! Exact checks of the structure's invariants (the audit).
 
+use super::geo::Geo;
 use super::{Att, Kss, Obj};
-use crate::world::World;
 
 impl Kss {
     /// Check the combinatorial invariants: `2k − 2` partition triangles and
@@ -9,7 +9,7 @@ impl Kss {
     /// triangle on three objects, each corridor linked from both its ends,
     /// chains that run from one end to the other, and chains that cover
     /// every polygon edge exactly once.
-    pub fn check_topology(&self, world: &World) -> Result<(), String> {
+    pub fn check_topology(&self, world: &Geo) -> Result<(), String> {
         let k = world.bodies().iter().filter(|b| b.alive).count();
         if k < 2 {
             return if self.tris.is_empty() && self.corrs.is_empty() {
@@ -45,10 +45,8 @@ impl Kss {
                 }
             }
         }
-        let mut covered: Vec<Vec<u8>> = world
-            .bodies()
-            .iter()
-            .map(|b| vec![0u8; b.shape.len()])
+        let mut covered: Vec<Vec<u8>> = (0..world.len())
+            .map(|b| vec![0u8; world.id_bound(crate::world::BodyId(b as u32))])
             .collect();
         for (ki, c) in self.corrs.iter().enumerate() {
             let (a_s, b_s, a_t, b_t) = self.ends(super::CorrId(ki as u32));
@@ -78,11 +76,12 @@ impl Kss {
             if !world.bodies()[bi].alive {
                 continue;
             }
-            if let Some(e) = cov.iter().position(|&c| c != 1) {
+            let ids = world.ids(crate::world::BodyId(bi as u32));
+            if let Some(&e) = ids.iter().find(|&&e| cov[e as usize] != 1) {
                 return Err(format!(
                     "edge {e} of body {} is in {} corridor chains",
                     world.bodies()[bi].id,
-                    cov[e]
+                    cov[e as usize]
                 ));
             }
         }
@@ -93,7 +92,7 @@ impl Kss {
 /// Walk `len` edges clockwise from `from`; it must end at `to`. Marks the
 /// edges covered (edge `i` joins vertices `i` and `i + 1`).
 fn walk_chain(
-    world: &World,
+    world: &Geo,
     from: Att,
     to: Att,
     len: u32,
@@ -102,16 +101,17 @@ fn walk_chain(
     let Obj::Body(b) = from.obj else {
         return Err("chain on ω".into());
     };
-    let n = world.body(b).shape.len() as u32;
+    let n = world.count(b);
     if len > n {
         return Err(format!("{len} edges on a {n}-gon"));
     }
-    let mut v = from.v;
+    let mut v = from;
     for _ in 0..len {
-        let prev = (v + n - 1) % n;
-        covered[b.index()][prev as usize] += 1;
+        let prev = world.cw(v, 1);
+        covered[b.index()][prev.v as usize] += 1;
         v = prev;
     }
+    let v = v.v;
     if v != to.v {
         return Err(format!(
             "walked {len} edges from {} to {}, expected {}",
@@ -128,15 +128,21 @@ impl Kss {
     /// makes the faces tile the free space: a face whose sign pattern is a
     /// pseudo-triangle's but which wraps around a polygon has a bridge
     /// through that polygon. `O(bridges · N)` exact tests after a box filter.
-    pub fn check_bridges(&self, world: &World, t: &crate::num::Rational) -> Result<(), String> {
+    pub fn check_bridges(&self, world: &Geo, t: &crate::num::Rational) -> Result<(), String> {
         use super::build::position;
         use crate::geom::{segment_meets_convex_interior, Point};
         let placed: Vec<Option<(Vec<Point>, [f64; 4])>> = world
             .bodies()
             .iter()
-            .map(|b| {
+            .enumerate()
+            .map(|(bi, b)| {
                 b.alive.then(|| {
-                    let pts: Vec<Point> = (0..b.shape.len()).map(|i| b.vertex_at(i, t)).collect();
+                    let id = crate::world::BodyId(bi as u32);
+                    let pts: Vec<Point> = world
+                        .ids(id)
+                        .into_iter()
+                        .map(|v| position(world, super::Att::vertex(id, v), t).expect("finite"))
+                        .collect();
                     let mut bx = [
                         f64::INFINITY,
                         f64::INFINITY,

@@ -11,10 +11,11 @@ use std::collections::HashMap;
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
+use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
 use crate::geom::{orient, Point};
 use crate::num::{Rational, Sign};
-use crate::world::{BodyId, World};
+use crate::world::BodyId;
 
 /// Why the structure could not be built.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -25,15 +26,15 @@ pub enum BuildError {
 }
 
 /// The exact position of an attachment point at time `t` (`None` for `ω`).
-pub fn position(world: &World, a: Att, t: &Rational) -> Option<Point> {
+pub fn position(world: &Geo, a: Att, t: &Rational) -> Option<Point> {
     match a.obj {
         Obj::Omega => None,
-        Obj::Body(b) => Some(world.body(b).vertex_at(a.v as usize, t)),
+        Obj::Body(_) => world.position(a, t),
     }
 }
 
 /// Build the structure for the alive bodies of `world` at time `t`.
-pub fn build(world: &World, t: &Rational) -> Result<Kss, BuildError> {
+pub fn build(world: &Geo, t: &Rational) -> Result<Kss, BuildError> {
     // Global vertex numbering.
     let mut atts: Vec<Att> = Vec::new();
     let mut exact: Vec<Point> = Vec::new();
@@ -43,11 +44,13 @@ pub fn build(world: &World, t: &Rational) -> Result<Kss, BuildError> {
             continue;
         }
         let base = atts.len();
-        let n = body.shape.len();
-        for v in 0..n {
-            atts.push(Att::vertex(BodyId(i as u32), v as u32));
-            exact.push(body.vertex_at(v, t));
-            edges.push([base + v, base + (v + 1) % n]);
+        let ids = world.ids(BodyId(i as u32));
+        let n = ids.len();
+        for (x, &v) in ids.iter().enumerate() {
+            let a = Att::vertex(BodyId(i as u32), v);
+            atts.push(a);
+            exact.push(world.position(a, t).expect("a finite point"));
+            edges.push([base + x, base + (x + 1) % n]);
         }
     }
     let alive = world.bodies().iter().filter(|b| b.alive).count();
@@ -110,8 +113,7 @@ pub fn build(world: &World, t: &Rational) -> Result<Kss, BuildError> {
         for i in 0..3 {
             let (x, y) = (f[i], f[(i + 1) % 3]);
             if let (Obj::Body(b), true) = (x.obj, x.obj == y.obj) {
-                let n = world.body(b).shape.len() as u32;
-                if (x.v + 1) % n != y.v && (y.v + 1) % n != x.v {
+                if world.ccw(x) != y && world.ccw(y) != x {
                     return Err(BuildError::Rounding(format!(
                         "a triangle side cuts through body {}",
                         world.body(b).id
@@ -203,6 +205,8 @@ pub fn build(world: &World, t: &Rational) -> Result<Kss, BuildError> {
 mod tests {
     use super::*;
     use crate::gen::{generate_small, Family};
+    use crate::structure::geo::Geo;
+    use crate::world::World;
 
     #[test]
     fn construction_topology_on_generated_scenes() {
@@ -211,6 +215,7 @@ mod tests {
             for seed in 0..60 {
                 let s = generate_small(family, seed);
                 let world = World::new(&s, None).unwrap();
+                let world = Geo::plain(&world);
                 match build(&world, &Rational::zero()) {
                     Ok(mut kss) => {
                         kss.check_topology(&world)
@@ -234,9 +239,11 @@ mod larger_tests {
     use super::*;
     use crate::gen::{flypast, gas, FlypastParams, GasParams};
     use crate::num::Time;
+    use crate::world::World;
 
     fn check(s: &crate::Scenario) {
         let world = World::new(s, None).unwrap();
+        let world = Geo::plain(&world);
         let mut kss = build(&world, &Rational::zero()).unwrap();
         kss.check_topology(&world).unwrap();
         kss.place_middle_bridges(&world, &Time::zero());

@@ -16,9 +16,9 @@
 use std::collections::BTreeMap;
 
 use super::faces::turn_after;
+use super::geo::Geo;
 use super::{Att, CorrId, Kss, Obj};
 use crate::num::{Sign, Time};
-use crate::world::World;
 
 /// Why a certificate exists.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -75,9 +75,9 @@ impl Cert {
 /// The order certificate of three points that stay on one line (their turn
 /// is identically zero): whichever is strictly between the other two just
 /// after `t` stays so. `None` if two of them coincide.
-pub fn order_cert(world: &World, p: [Att; 3], t: &Time) -> Option<Cert> {
+pub fn order_cert(world: &Geo, p: [Att; 3], t: &Time) -> Option<Cert> {
     let lp = |a: Att| match a.obj {
-        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("finite points"),
     };
     let pts = p.map(lp);
@@ -103,7 +103,7 @@ impl Kss {
     /// is already wrong just after `t` (a degenerate start: three points
     /// collinear at `t`) is included with its required sign; the simulation
     /// processes it at once. Sorted and deduplicated.
-    pub fn certificates(&self, world: &World, t: &Time) -> Result<Vec<Cert>, String> {
+    pub fn certificates(&self, world: &Geo, t: &Time) -> Result<Vec<Cert>, String> {
         let mut out: BTreeMap<[Att; 3], Cert> = BTreeMap::new();
         let mut add = |c: Cert| -> Result<(), String> {
             let c = c.canonical();
@@ -192,6 +192,7 @@ impl Kss {
 mod tests {
     use crate::gen::{gas, generate_small, Family, GasParams};
     use crate::num::{Rational, Time};
+    use crate::structure::geo::Geo;
     use crate::world::World;
 
     #[test]
@@ -202,6 +203,7 @@ mod tests {
             for seed in 0..40 {
                 let s = generate_small(family, seed);
                 let world = World::new(&s, None).unwrap();
+                let world = Geo::plain(&world);
                 let mut kss = super::super::build::build(&world, &Rational::zero()).unwrap();
                 kss.place_middle_bridges(&world, &Time::zero());
                 let certs = kss
@@ -226,6 +228,7 @@ mod tests {
             ..Default::default()
         });
         let world = World::new(&s, None).unwrap();
+        let world = Geo::plain(&world);
         let mut kss = super::super::build::build(&world, &Rational::zero()).unwrap();
         kss.place_middle_bridges(&world, &Time::zero());
         let certs = kss.certificates(&world, &Time::zero()).unwrap();

@@ -9,12 +9,13 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use super::certs::Cert;
 use super::events::{classify, nearby_contact, settled_between, Failure};
+use super::geo::Geo;
 use super::ops::{Outcome, Owner};
 use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::orient_poly;
 use crate::num::{Poly, Rational, Sign, Time};
 use crate::sim::{EventKey, EventQueue};
-use crate::world::{BodyId, World};
+use crate::world::BodyId;
 
 /// Debug tracing of every failure (`--features trace`; the library does no
 /// IO otherwise).
@@ -66,9 +67,9 @@ pub struct Kinetic {
 
 /// The certificate function of `c`, oriented so that it is positive while
 /// the certificate holds.
-pub fn cert_poly(world: &World, c: &Cert) -> Poly {
+pub fn cert_poly(world: &Geo, c: &Cert) -> Poly {
     let lp = |a: Att| match a.obj {
-        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("certificates have finite points"),
     };
     if c.kind == super::certs::CertKind::Order {
@@ -85,7 +86,7 @@ pub fn cert_poly(world: &World, c: &Cert) -> Poly {
 /// When certificate `c` fails, given that `now` is the current time: `now`
 /// itself if it is already wrong just after `now`, else the first later root
 /// where it stops being positive, if any.
-pub fn failure_time(world: &World, c: &Cert, now: &Time) -> Option<Time> {
+pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     let p = cert_poly(world, c);
     if p.sign_after(now) != Sign::Positive {
         return Some(now.clone());
@@ -109,14 +110,14 @@ fn bodies_of(p: &[Att; 3]) -> Vec<BodyId> {
 
 /// Whether certificate `c` is already wrong just after `now` (it fails at
 /// `now`).
-fn is_failing(world: &World, c: &Cert, now: &Time) -> bool {
+fn is_failing(world: &Geo, c: &Cert, now: &Time) -> bool {
     cert_poly(world, c).sign_after(now) != Sign::Positive
 }
 
 /// Order among failures at one instant: a vertex against another body's
 /// polygon edge (a possible contact) comes first, so that every contact of an
 /// instant is known before the structure changes around it.
-fn tie(world: &World, p: &[Att; 3]) -> u64 {
+fn tie(world: &Geo, p: &[Att; 3]) -> u64 {
     let possible_contact = (0..3).any(|i| {
         let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
         z.obj != x.obj && super::faces::poly_edge(world, x, y)
@@ -130,7 +131,7 @@ fn tie(world: &World, p: &[Att; 3]) -> u64 {
 /// certificate's corridors, that touches at `t` too (three polygons meeting
 /// at one point need not have a certificate that involves two of them).
 fn contact_pairs(
-    world: &World,
+    world: &Geo,
     kss: &Kss,
     owners: &[Owner],
     p: &[Att; 3],
@@ -203,7 +204,7 @@ pub enum Step {
 
 impl Kinetic {
     /// Build the structure at time `t` and schedule its certificates.
-    pub fn new(world: &World, t: &Rational) -> Result<Kinetic, String> {
+    pub fn new(world: &Geo, t: &Rational) -> Result<Kinetic, String> {
         let kss = super::build::build(world, t).map_err(|e| e.to_string())?;
         let mut k = Kinetic {
             kss,
@@ -217,7 +218,7 @@ impl Kinetic {
 
     /// Rebuild the structure from scratch at `t` (after polygons were removed)
     /// and schedule its certificates.
-    pub fn rebuild(&mut self, world: &World, t: &Rational) -> Result<(), String> {
+    pub fn rebuild(&mut self, world: &Geo, t: &Rational) -> Result<(), String> {
         let counts = std::mem::take(&mut self.counts);
         let max_active = self.max_active;
         *self = Kinetic::new(world, t)?;
@@ -226,7 +227,7 @@ impl Kinetic {
         Ok(())
     }
 
-    fn schedule_everything(&mut self, world: &World, now: &Time) -> Result<(), String> {
+    fn schedule_everything(&mut self, world: &Geo, now: &Time) -> Result<(), String> {
         self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
         self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
         for ki in 0..self.kss.corrs.len() {
@@ -246,7 +247,7 @@ impl Kinetic {
 
     /// Recompute the certificates owned by `o` at `now`: drop the ones it no
     /// longer owns, schedule the new ones.
-    fn refresh(&mut self, world: &World, o: Owner, now: &Time) -> Result<(), String> {
+    fn refresh(&mut self, world: &Geo, o: Owner, now: &Time) -> Result<(), String> {
         let fresh = match o {
             Owner::Tri(t) => self.kss.triangle_certs(t),
             Owner::Corr(k) => self.kss.corridor_certs(world, k, now),
@@ -353,7 +354,7 @@ impl Kinetic {
         }
     }
 
-    fn reschedule(&mut self, world: &World, p: &[Att; 3], now: &Time) {
+    fn reschedule(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
         if let Some(s) = self.certs.get_mut(p) {
             if let Some(k) = s.key.take() {
                 self.queue.cancel(k);
@@ -370,7 +371,7 @@ impl Kinetic {
     /// certificates set aside at this instant.
     pub fn motion_changed(
         &mut self,
-        world: &World,
+        world: &Geo,
         now: &Time,
         bodies: &[BodyId],
     ) -> Result<(), String> {
@@ -442,7 +443,7 @@ impl Kinetic {
     /// response already separates) is a structural event.
     pub fn step(
         &mut self,
-        world: &World,
+        world: &Geo,
         limit: &Time,
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
@@ -519,7 +520,7 @@ impl Kinetic {
     /// contact is pending at it).
     fn handle_or_rebuild(
         &mut self,
-        world: &World,
+        world: &Geo,
         p: [Att; 3],
         t: Time,
         contacts: &[(BodyId, BodyId)],
@@ -555,7 +556,7 @@ impl Kinetic {
     /// `now`. The fallback for instants where several degeneracies coincide
     /// and the local operations find no valid structure (counted as
     /// `degenerate_rebuild`; see ARCHITECTURE.md).
-    pub fn rebuild_after(&mut self, world: &World, now: &Time) -> Result<(), String> {
+    pub fn rebuild_after(&mut self, world: &Geo, now: &Time) -> Result<(), String> {
         let f = now.to_f64();
         let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
         for _ in 0..200 {
@@ -592,7 +593,7 @@ impl Kinetic {
     /// Handle the failure of the (popped) certificate on `p` at `t`.
     fn handle(
         &mut self,
-        world: &World,
+        world: &Geo,
         p: [Att; 3],
         t: Time,
         contacts: &[(BodyId, BodyId)],
@@ -675,7 +676,7 @@ impl Kinetic {
         }
     }
 
-    fn apply(&mut self, world: &World, out: Outcome, t: &Time) -> Result<(), String> {
+    fn apply(&mut self, world: &Geo, out: Outcome, t: &Time) -> Result<(), String> {
         *self.counts.entry(out.kind).or_default() += 1;
         let mut corrs = out.corrs;
         corrs.sort();
@@ -716,7 +717,7 @@ impl Kinetic {
     /// last event `now` and before the next one: topology, every corridor face
     /// a pseudo-triangle, every certificate holding, and the scheduled set
     /// equal to a from-scratch recomputation with the right failure times.
-    pub fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+    pub fn audit(&self, world: &Geo, now: &Time, at: &Rational) -> Result<(), String> {
         let at_t = Time::from_rational(at.clone());
         self.kss.check_topology(world)?;
         self.kss.check_faces(world, &at_t)?;
@@ -787,6 +788,8 @@ impl Kinetic {
 mod tests {
     use super::*;
     use crate::gen::{generate_small, Family};
+    use crate::structure::geo::Geo;
+    use crate::world::World;
 
     #[test]
     fn scheduled_certificates_audit_clean_before_the_first_event() {
@@ -795,6 +798,7 @@ mod tests {
             for seed in 0..40 {
                 let s = generate_small(family, seed);
                 let world = World::new(&s, None).unwrap();
+                let world = Geo::plain(&world);
                 let k = Kinetic::new(&world, &Rational::zero()).unwrap();
                 let now = Time::zero();
                 let Some(next) = k.next_time().cloned() else {

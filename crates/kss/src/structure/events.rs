@@ -8,10 +8,11 @@
 
 use super::certs::Cert;
 use super::faces::poly_edge;
+use super::geo::Geo;
 use super::{Att, Obj};
 use crate::motion::{middle_of_collinear, LinearPoint};
 use crate::num::Time;
-use crate::world::{BodyId, World};
+use crate::world::BodyId;
 
 /// What a failing certificate means.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,9 +37,9 @@ pub enum Failure {
     },
 }
 
-fn point(world: &World, a: Att) -> LinearPoint {
+fn point(world: &Geo, a: Att) -> LinearPoint {
     match a.obj {
-        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("certificates have finite points"),
     }
 }
@@ -51,7 +52,7 @@ fn body(a: Att) -> BodyId {
 }
 
 /// Classify certificate `c`, whose three points are collinear at time `t`.
-pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
+pub fn classify(world: &Geo, c: &Cert, t: &Time) -> Failure {
     let pts = c.p.map(|a| point(world, a));
     match middle_of_collinear([&pts[0], &pts[1], &pts[2]], t) {
         None => {
@@ -103,7 +104,7 @@ pub fn classify(world: &World, c: &Cert, t: &Time) -> Failure {
 /// (the bridge or junction through `z` and `y` reaches `x`'s polygon at
 /// `x`). `None` when no such reading exists (three bodies meet, or the
 /// touch is inside an edge).
-pub fn settled_between(world: &World, c: &Cert, t: &Time) -> Option<Failure> {
+pub fn settled_between(world: &Geo, c: &Cert, t: &Time) -> Option<Failure> {
     let r = t.as_rational()?;
     let pos = |a: Att| super::build::position(world, a, r).expect("finite");
     for (i, j, k) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
@@ -134,17 +135,14 @@ pub fn settled_between(world: &World, c: &Cert, t: &Time) -> Option<Failure> {
 /// where every vertex reaches the other's line at once and the structure's
 /// certificates may all report "beyond the end". `t` must be rational (such
 /// certificates are linear).
-pub fn nearby_contact(world: &World, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
+pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
     let t = t.as_rational()?;
     // the vertex z of one body and an edge endpoint x of the other
     let (z, x) = (0..3).find_map(|i| {
         let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
         (x.obj == y.obj && z.obj != x.obj && poly_edge(world, x, y)).then_some((z, x))
     })?;
-    let near = |a: Att| {
-        let n = world.body(body(a)).shape.len() as u32;
-        [(a.v + n - 1) % n, a.v, (a.v + 1) % n].map(|v| Att { obj: a.obj, v })
-    };
+    let near = |a: Att| [world.cw(a, 1), a, world.ccw(a)];
     let pos = |a: Att| super::build::position(world, a, t).expect("finite");
     let touches = |u: Att, e0: Att, e1: Att| {
         let (pu, p0, p1) = (pos(u), pos(e0), pos(e1));
@@ -170,6 +168,8 @@ mod tests {
     use crate::num::Sign;
     use crate::scenario::{CollisionMode, PolygonSpec, Scenario};
     use crate::structure::certs::CertKind;
+    use crate::structure::geo::Geo;
+    use crate::world::World;
 
     fn square(id: &str, x: f64, y: f64, vx: f64) -> PolygonSpec {
         PolygonSpec {
@@ -191,6 +191,7 @@ mod tests {
             flight_plan_changes: vec![],
         };
         let w = World::new(&s, None).unwrap();
+        let w = Geo::plain(&w);
         let (a, b) = (BodyId(0), BodyId(1));
         let cert = Cert {
             p: [Att::vertex(a, 1), Att::vertex(a, 2), Att::vertex(b, 0)],

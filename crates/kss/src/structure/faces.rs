@@ -1,29 +1,20 @@
 //! Corridor faces, junctions and the middle bridge.
 
+use super::geo::Geo;
 use super::{Att, CorrId, Kss, Obj};
 use crate::motion::orient_poly;
 use crate::num::{Sign, Time};
-use crate::world::World;
 
 /// Vertex `v − k` (clockwise by `k`) of the object of `a`.
-pub fn step_cw(world: &World, a: Att, k: u32) -> Att {
-    match a.obj {
-        Obj::Omega => a,
-        Obj::Body(b) => {
-            let n = world.body(b).shape.len() as u32;
-            Att {
-                obj: a.obj,
-                v: (a.v + n - (k % n)) % n,
-            }
-        }
-    }
+pub fn step_cw(world: &Geo, a: Att, k: u32) -> Att {
+    world.cw(a, k)
 }
 
 /// The sign of `orient(u, v, w)` just after time `t` (all three finite):
 /// positive for a left turn.
-pub fn turn_after(world: &World, u: Att, v: Att, w: Att, t: &Time) -> Sign {
+pub fn turn_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> Sign {
     let lp = |a: Att| match a.obj {
-        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("turn_after on ω"),
     };
     orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t)
@@ -33,7 +24,7 @@ impl Kss {
     /// The boundary of corridor `k`'s region, counter-clockwise, as
     /// attachment points: `b_s, a_s, (A-chain), a_t, b_t, (B-chain)`, ending
     /// before `b_s` again. Consecutive equal points are not repeated.
-    pub fn corridor_boundary(&self, world: &World, k: CorrId) -> Vec<Att> {
+    pub fn corridor_boundary(&self, world: &Geo, k: CorrId) -> Vec<Att> {
         let c = &self.corrs[k.0 as usize];
         let (a_s, b_s, _, b_t) = self.ends(k);
         let mut out = vec![b_s];
@@ -51,7 +42,7 @@ impl Kss {
     /// Compute middle bridges at time `t` for every corridor whose region
     /// has four convex corners (both chains non-empty and the four end-edge
     /// endpoints convex), by walking the geodesic diagonal `a_s ⇝ b_t`.
-    pub fn place_middle_bridges(&mut self, world: &World, t: &Time) {
+    pub fn place_middle_bridges(&mut self, world: &Geo, t: &Time) {
         for ki in 0..self.corrs.len() {
             let k = CorrId(ki as u32);
             let c = self.corrs[ki].clone();
@@ -102,7 +93,7 @@ impl Kss {
 /// For a turn that is identically zero (the three points stay collinear:
 /// no relative motion across their line), whether `v` lies strictly between
 /// `u` and `w`, a straight angle, which never changes. `t` must be rational.
-pub fn straight_forever(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool {
+pub fn straight_forever(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
     let Some(t) = t.as_rational() else {
         return false;
     };
@@ -116,41 +107,32 @@ pub fn straight_forever(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool
 /// at least two bodies. Two bodies that slide along each other pinch a face
 /// this way; the cusp is a convex corner of angle zero, and the order
 /// certificate of the triple ends it.
-pub fn cusp_forever(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool {
+pub fn cusp_forever(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
     let d = crate::motion::dot_poly(&lin(world, v), &lin(world, u), &lin(world, w));
     (u.obj != v.obj || w.obj != v.obj) && d.sign_after(t) == Sign::Positive
 }
 
-fn lin(world: &World, a: Att) -> crate::motion::LinearPoint {
+fn lin(world: &Geo, a: Att) -> crate::motion::LinearPoint {
     match a.obj {
-        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("a finite point was expected"),
     }
 }
 
 /// Whether `x` and `y` are the two ends of one polygon edge.
-pub fn poly_edge(world: &World, x: Att, y: Att) -> bool {
+pub fn poly_edge(world: &Geo, x: Att, y: Att) -> bool {
     x.obj == y.obj && !x.is_omega() && (step_ccw(world, x) == y || step_ccw(world, y) == x)
 }
 
 /// Vertex `v + 1` (counter-clockwise neighbour) of the object of `a`.
-pub fn step_ccw(world: &World, a: Att) -> Att {
-    match a.obj {
-        Obj::Omega => a,
-        Obj::Body(b) => {
-            let n = world.body(b).shape.len() as u32;
-            Att {
-                obj: a.obj,
-                v: (a.v + 1) % n,
-            }
-        }
-    }
+pub fn step_ccw(world: &Geo, a: Att) -> Att {
+    world.ccw(a)
 }
 
 impl Kss {
     /// The faces of corridor `k` (one, or two when it has a middle bridge),
     /// each as its boundary cycle counter-clockwise.
-    pub fn corridor_faces(&self, world: &World, k: CorrId) -> Vec<Vec<Att>> {
+    pub fn corridor_faces(&self, world: &Geo, k: CorrId) -> Vec<Vec<Att>> {
         let c = &self.corrs[k.0 as usize];
         let (a_s, b_s, _a_t, b_t) = self.ends(k);
         match c.mid {
@@ -178,7 +160,7 @@ impl Kss {
     /// Check that every face of every corridor between two bodies is a
     /// pseudo-triangle just after time `t`: exactly three convex vertices,
     /// every other vertex reflex.
-    pub fn check_faces(&self, world: &World, t: &Time) -> Result<(), String> {
+    pub fn check_faces(&self, world: &Geo, t: &Time) -> Result<(), String> {
         for ki in 0..self.corrs.len() {
             let k = CorrId(ki as u32);
             if self.corrs[ki].b == Obj::Omega {

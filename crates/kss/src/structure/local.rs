@@ -10,10 +10,10 @@
 
 use super::certs::{order_cert, Cert, CertKind};
 use super::faces::{step_ccw, step_cw, turn_after};
+use super::geo::Geo;
 use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::dot_poly;
 use crate::num::{Sign, Time};
-use crate::world::World;
 
 /// Which edge of a corridor face leaves or enters a junction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,7 +61,7 @@ struct Face {
 }
 
 /// The sign of `orient(u, v, w)` just after `t`.
-pub fn turn(world: &World, u: Att, v: Att, w: Att, t: &Time) -> Sign {
+pub fn turn(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> Sign {
     turn_after(world, u, v, w, t)
 }
 
@@ -82,15 +82,15 @@ pub enum Side {
     Before,
 }
 
-fn lin(world: &World, a: Att) -> crate::motion::LinearPoint {
+fn lin(world: &Geo, a: Att) -> crate::motion::LinearPoint {
     match a.obj {
-        Obj::Body(b) => world.body(b).vertex(a.v as usize),
+        Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("a finite point was expected"),
     }
 }
 
 /// The sign of `orient(u, v, w)` just on `side` of `t`.
-pub fn turn_on(world: &World, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sign {
+pub fn turn_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sign {
     match side {
         Side::After => turn_after(world, u, v, w, t),
         Side::Before => crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w))
@@ -100,12 +100,12 @@ pub fn turn_on(world: &World, u: Att, v: Att, w: Att, t: &Time, side: Side) -> S
 
 /// Whether `v` is strictly between `u` and `w` just after `t` (for three
 /// points that stay on one line).
-pub fn between_after(world: &World, u: Att, v: Att, w: Att, t: &Time) -> bool {
+pub fn between_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
     between_on(world, u, v, w, t, Side::After)
 }
 
 /// Whether `v` is strictly between `u` and `w` just on `side` of `t`.
-pub fn between_on(world: &World, u: Att, v: Att, w: Att, t: &Time, side: Side) -> bool {
+pub fn between_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> bool {
     let d = dot_poly(&lin(world, v), &lin(world, u), &lin(world, w));
     let s = match side {
         Side::After => d.sign_after(t),
@@ -120,7 +120,7 @@ pub fn between_on(world: &World, u: Att, v: Att, w: Att, t: &Time, side: Side) -
 /// at `v` that are not face edges must not point into the face's angle
 /// (the intersection of the two left half-planes at a convex junction, their
 /// union at a reflex one, one half-plane at a straight one).
-fn junction_clear(world: &World, j: &Junction, s: Sign, t: &Time, side: Side) -> bool {
+fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> bool {
     let v = j.v;
     let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
     let tn = |a, b, c| turn_on(world, a, b, c, t, side);
@@ -153,7 +153,7 @@ fn junction_clear(world: &World, j: &Junction, s: Sign, t: &Time, side: Side) ->
 impl Kss {
     /// The faces of corridor `k` between two bodies as pieces (none for an
     /// empty corridor or an ω-corridor), using middle bridge `mid`.
-    fn faces_with(&self, world: &World, k: CorrId, mid: Option<(u32, u32)>) -> Vec<Face> {
+    fn faces_with(&self, world: &Geo, k: CorrId, mid: Option<(u32, u32)>) -> Vec<Face> {
         let c = &self.corrs[k.0 as usize];
         if c.b == Obj::Omega || (c.len_a == 0 && c.len_b == 0) {
             return Vec::new();
@@ -206,7 +206,7 @@ impl Kss {
     /// face by face (`None` for a face with fewer than three vertices).
     fn junctions_with(
         &self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         mid: Option<(u32, u32)>,
     ) -> Vec<Option<Vec<Junction>>> {
@@ -256,7 +256,7 @@ impl Kss {
     }
 
     /// The junctions of corridor `k` as it stands, all faces together.
-    pub fn junctions(&self, world: &World, k: CorrId) -> Vec<Junction> {
+    pub fn junctions(&self, world: &Geo, k: CorrId) -> Vec<Junction> {
         let mid = self.corrs[k.0 as usize].mid;
         self.junctions_with(world, k, mid)
             .into_iter()
@@ -268,14 +268,14 @@ impl Kss {
     /// Whether every face of corridor `k` with middle bridge `mid` is a
     /// pseudo-triangle just after `t`: three convex junctions, the others
     /// reflex or straight for ever (chain interiors are reflex for ever).
-    pub fn faces_valid(&self, world: &World, k: CorrId, mid: Option<(u32, u32)>, t: &Time) -> bool {
+    pub fn faces_valid(&self, world: &Geo, k: CorrId, mid: Option<(u32, u32)>, t: &Time) -> bool {
         self.faces_valid_on(world, k, mid, t, Side::After)
     }
 
     /// [`Kss::faces_valid`] read on `side` of `t`.
     pub fn faces_valid_on(
         &self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         mid: Option<(u32, u32)>,
         t: &Time,
@@ -289,7 +289,7 @@ impl Kss {
     /// sign pattern alone.
     fn faces_valid_signed(
         &self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         mid: Option<(u32, u32)>,
         t: &Time,
@@ -300,7 +300,7 @@ impl Kss {
 
     fn faces_valid_core(
         &self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         mid: Option<(u32, u32)>,
         (t, side): (&Time, Side),
@@ -379,7 +379,7 @@ impl Kss {
     /// (with the class they have just after `t`) or, for an ω-corridor, the
     /// hull turns at its hull-bridge ends. Turns that are identically zero
     /// are left out.
-    pub fn corridor_certs(&self, world: &World, k: CorrId, t: &Time) -> Vec<Cert> {
+    pub fn corridor_certs(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<Cert> {
         let flipped: &[[Att; 3]] = self.held.get(&k).map_or(&[], |v| v.as_slice());
         let mut out: Vec<Cert> = Vec::new();
         let c = &self.corrs[k.0 as usize];
@@ -427,7 +427,7 @@ impl Kss {
     /// `(a_s − 1, a_s, x)` and `(y, a_t, a_t + 1)`, or `(y, a_s, x)` when
     /// `a_s` is its polygon's only hull vertex (`x`, `y`: the hull
     /// neighbours on other objects).
-    pub fn hull_turns(&self, world: &World, k: CorrId) -> Vec<([Att; 3], Att)> {
+    pub fn hull_turns(&self, world: &Geo, k: CorrId) -> Vec<([Att; 3], Att)> {
         let c = &self.corrs[k.0 as usize];
         let (a_s, _, a_t, _) = self.ends(k);
         let x = self.other_finite_corner(c.s.0, a_s);
@@ -444,7 +444,7 @@ impl Kss {
 
     /// Whether corridor `k` has four convex corners just after `t` (it needs
     /// a middle bridge), given both chains are non-empty.
-    fn four_corners(&self, world: &World, k: CorrId, t: &Time, side: Side) -> bool {
+    fn four_corners(&self, world: &Geo, k: CorrId, t: &Time, side: Side) -> bool {
         let (a_s, b_s, a_t, b_t) = self.ends(k);
         let conv = |u, v, w| turn_on(world, u, v, w, t, side) == Sign::Positive;
         conv(b_s, a_s, step_cw(world, a_s, 1))
@@ -460,7 +460,7 @@ impl Kss {
     /// nothing was repaired), or an error if no decomposition was found.
     pub fn normalize(
         &mut self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         t: &Time,
         hint: Option<(u32, u32)>,
@@ -541,7 +541,7 @@ impl Kss {
     /// pseudo-triangle; `None` if no such set exists.
     fn fewest_flips(
         &self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         m: Option<(u32, u32)>,
         t: &Time,
@@ -603,7 +603,7 @@ impl Kss {
     /// does; sets it and returns the walk length (0: nothing changed).
     fn decompose(
         &mut self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         t: &Time,
         hint: Option<(u32, u32)>,
@@ -646,7 +646,7 @@ impl Kss {
     /// steps.
     fn walk(
         &self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         (t, side): (&Time, Side),
         start: (u32, u32),

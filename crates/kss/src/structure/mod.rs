@@ -30,6 +30,7 @@ pub mod certs;
 pub mod engine;
 pub mod events;
 pub mod faces;
+pub mod geo;
 pub mod local;
 pub mod ops;
 pub mod view;

@@ -25,10 +25,10 @@
 
 use super::certs::rotate_to_min;
 use super::faces::{poly_edge, step_ccw, step_cw};
+use super::geo::Geo;
 use super::local::{turn, EdgeRef};
 use super::{Att, CorrId, Kss, Obj, PartitionTriangle, TriId};
 use crate::num::{Sign, Time};
-use crate::world::World;
 
 /// Which part of the structure a certificate belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -70,7 +70,7 @@ impl Kss {
     /// caller normalizes).
     pub fn corner_slide(
         &mut self,
-        world: &World,
+        world: &Geo,
         tri: TriId,
         ci: usize,
         to: Att,
@@ -212,7 +212,7 @@ impl Kss {
 
     fn corner_slide_outcome(
         &mut self,
-        world: &World,
+        world: &Geo,
         tri: TriId,
         ci: usize,
         to: Att,
@@ -231,7 +231,7 @@ impl Kss {
     /// collision). Every decision is the sign just after `t`.
     pub fn process(
         &mut self,
-        world: &World,
+        world: &Geo,
         owner: Owner,
         p: [Att; 3],
         middle: Att,
@@ -248,7 +248,7 @@ impl Kss {
 
     fn triangle_collapse(
         &mut self,
-        world: &World,
+        world: &Geo,
         tri: TriId,
         middle: Att,
         t: &Time,
@@ -309,7 +309,7 @@ impl Kss {
 
     fn hull_event(
         &mut self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         p: [Att; 3],
         middle: Att,
@@ -341,7 +341,7 @@ impl Kss {
 
     fn junction_event(
         &mut self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         p: [Att; 3],
         middle: Att,
@@ -395,7 +395,7 @@ impl Kss {
     /// it); otherwise the junction at `from` has turned straight.
     fn slide_bridge(
         &mut self,
-        world: &World,
+        world: &Geo,
         k: CorrId,
         e: EdgeRef,
         from: Att,

@@ -11,10 +11,10 @@ use std::collections::BTreeSet;
 use super::certs::CertKind;
 use super::engine::Kinetic;
 use super::faces::step_cw;
+use super::geo::Geo;
 use super::{Att, CorrId, Obj};
 use crate::num::{Rational, Time};
 use crate::render::overlay::{CertificateOverlay, CorridorOverlay, Segment, StructureOverlay};
-use crate::world::World;
 
 /// The name of a certificate kind as shown in pictures.
 pub fn kind_name(kind: CertKind) -> &'static str {
@@ -33,7 +33,7 @@ pub fn kind_name(kind: CertKind) -> &'static str {
 /// first (in exact time order; ties by their points), with their failure
 /// times rounded to doubles.
 pub fn overlay(
-    world: &World,
+    world: &Geo,
     kinetic: &Kinetic,
     at: &Rational,
     highlight: usize,

@@ -1,0 +1,169 @@
+//! How the structure sees the bodies: through vertex ids, neighbours along
+//! the boundary and moving positions, never through the polygons directly.
+//!
+//! For the plain structure a body is seen as its real polygon (ids `0..n`,
+//! steps modulo `n`). For the hierarchical structure (issue 4) a body is
+//! seen as its current outer approximation: the ids are the exposed indices
+//! of its replicated edge array, and vertex `k` is the approximation vertex
+//! `av(pred_S(k), k)` (see [`crate::hier`]). Everything in `structure/`
+//! reads geometry through a [`Geo`], so the same operations serve both.
+
+use std::sync::Arc;
+
+use super::{Att, Obj};
+use crate::geom::Point;
+use crate::hier::{EdgeArray, Exposed};
+use crate::motion::LinearPoint;
+use crate::num::Rational;
+use crate::world::{BodyId, World};
+
+/// A body seen through its outer approximation.
+#[derive(Clone, Debug)]
+pub struct Approx {
+    /// The body's replicated edge array.
+    pub array: Arc<EdgeArray>,
+    /// The exposed indices: the current approximation.
+    pub exposed: Exposed,
+}
+
+/// How each body is seen: the real polygon, or an approximation.
+#[derive(Clone, Debug, Default)]
+pub struct Shapes {
+    /// Per body (by index); missing or `None`: the real polygon.
+    pub per: Vec<Option<Approx>>,
+}
+
+static REAL: Shapes = Shapes { per: Vec::new() };
+
+impl Shapes {
+    /// Every body seen as its real polygon (the plain structure).
+    pub fn real() -> &'static Shapes {
+        &REAL
+    }
+
+    /// The approximation of body `b`, if it is seen through one.
+    pub fn approx(&self, b: BodyId) -> Option<&Approx> {
+        self.per.get(b.index()).and_then(Option::as_ref)
+    }
+}
+
+/// The world together with how the structure sees each body. Dereferences
+/// to the [`World`] for everything else (motions, liveness, ids).
+#[derive(Clone, Copy, Debug)]
+pub struct Geo<'a> {
+    /// The bodies and their motions.
+    pub world: &'a World,
+    /// How each body is seen.
+    pub shapes: &'a Shapes,
+}
+
+impl std::ops::Deref for Geo<'_> {
+    type Target = World;
+    fn deref(&self) -> &World {
+        self.world
+    }
+}
+
+impl<'a> Geo<'a> {
+    /// Every body seen as its real polygon.
+    pub fn plain(world: &'a World) -> Geo<'a> {
+        Geo {
+            world,
+            shapes: Shapes::real(),
+        }
+    }
+
+    /// The number of vertices body `b` is seen with.
+    pub fn count(&self, b: BodyId) -> u32 {
+        match self.shapes.approx(b) {
+            None => self.world.body(b).shape.len() as u32,
+            Some(a) => a.exposed.len() as u32,
+        }
+    }
+
+    /// One more than the largest vertex id body `b` can have.
+    pub fn id_bound(&self, b: BodyId) -> usize {
+        match self.shapes.approx(b) {
+            None => self.world.body(b).shape.len(),
+            Some(a) => a.array.m(),
+        }
+    }
+
+    /// The vertex ids of body `b`, counter-clockwise.
+    pub fn ids(&self, b: BodyId) -> Vec<u32> {
+        match self.shapes.approx(b) {
+            None => (0..self.world.body(b).shape.len() as u32).collect(),
+            Some(a) => a.exposed.iter().map(|k| k as u32).collect(),
+        }
+    }
+
+    /// The vertex `k` steps clockwise from `a` (`ω` stays `ω`).
+    pub fn cw(&self, a: Att, k: u32) -> Att {
+        let Obj::Body(b) = a.obj else {
+            return a;
+        };
+        let v = match self.shapes.approx(b) {
+            None => {
+                let n = self.world.body(b).shape.len() as u32;
+                (a.v + n - (k % n)) % n
+            }
+            Some(ap) => {
+                let n = ap.exposed.len();
+                let r = ap.exposed.rank(a.v as usize);
+                let k = k as usize % n;
+                ap.exposed
+                    .select((r + n - k) % n)
+                    .expect("rank within the set") as u32
+            }
+        };
+        Att { obj: a.obj, v }
+    }
+
+    /// The counter-clockwise neighbour of `a` (`ω` stays `ω`).
+    pub fn ccw(&self, a: Att) -> Att {
+        let Obj::Body(b) = a.obj else {
+            return a;
+        };
+        let v = match self.shapes.approx(b) {
+            None => (a.v + 1) % self.world.body(b).shape.len() as u32,
+            Some(ap) => ap.exposed.succ(a.v as usize).expect("a non-empty set") as u32,
+        };
+        Att { obj: a.obj, v }
+    }
+
+    /// The moving position of vertex `a` (a finite point).
+    pub fn point(&self, a: Att) -> LinearPoint {
+        let Obj::Body(b) = a.obj else {
+            unreachable!("a finite point was expected")
+        };
+        let body = self.world.body(b);
+        match self.shapes.approx(b) {
+            None => body.vertex(a.v as usize),
+            Some(ap) => {
+                let h = ap
+                    .array
+                    .vertex_of(&body.shape, &ap.exposed, a.v as usize)
+                    .expect("an exposed id with an approximation vertex");
+                h.moving(&body.frame)
+            }
+        }
+    }
+
+    /// The exact position of `a` at rational time `t` (`None` for `ω`).
+    pub fn position(&self, a: Att, t: &Rational) -> Option<Point> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let body = self.world.body(b);
+        match self.shapes.approx(b) {
+            None => Some(body.vertex_at(a.v as usize, t)),
+            Some(ap) => {
+                let h = ap
+                    .array
+                    .vertex_of(&body.shape, &ap.exposed, a.v as usize)
+                    .expect("an exposed id with an approximation vertex");
+                Some(body.traj.position_at(t).add(&h.to_point(body.shape.exp())))
+            }
+        }
+    }
+}
