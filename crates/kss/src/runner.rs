@@ -6,7 +6,8 @@ use crate::brute::{Brute, PairMethod};
 use crate::num::{Rational, Time};
 use crate::scenario::{CollisionMode, Scenario, ScenarioError};
 use crate::structure::engine::{Kinetic, Step};
-use crate::structure::geo::Geo;
+use crate::structure::geo::{Geo, Shapes};
+use crate::structure::{refine, Att, Obj};
 use crate::world::{BodyId, World};
 
 /// Which kinetic structure computes the collisions.
@@ -190,7 +191,7 @@ pub fn plain_state_at(
         ..options.clone()
     };
     let mut world = World::new(scenario, options.until)?;
-    let mut engine = PlainEngine::new(&world, options.audit)?;
+    let mut engine = PlainEngine::new(&world, options.audit, false)?;
     let mut last: Option<Time> = None;
     drive(&mut world, &mut engine, &options, Some(&t), &mut |e| {
         last = Some(e.time.clone());
@@ -328,14 +329,18 @@ fn make_engine(world: &World, options: &RunOptions) -> Result<Box<dyn Engine>, R
             world,
             options.pair_method,
         )))),
-        StructureKind::Plain => Ok(Box::new(PlainEngine::new(world, options.audit)?)),
-        other => Err(RunError::NotImplemented(other.name())),
+        StructureKind::Plain => Ok(Box::new(PlainEngine::new(world, options.audit, false)?)),
+        StructureKind::Hierarchical => Ok(Box::new(PlainEngine::new(world, options.audit, true)?)),
     }
 }
 
-/// The kinetic separation structure without the hierarchy.
+/// The kinetic separation structure, on the polygons (`plain`) or on their
+/// hierarchical outer approximations (`hierarchical`).
 struct PlainEngine {
     k: Kinetic,
+    /// How the structure sees the bodies: real polygons for `plain`, the
+    /// current approximations for `hierarchical`.
+    shapes: Shapes,
     /// Audit after every internal event too (not only after collisions and
     /// flight-plan changes).
     audit: bool,
@@ -350,10 +355,25 @@ struct PlainEngine {
 }
 
 impl PlainEngine {
-    fn new(world: &World, audit: bool) -> Result<PlainEngine, RunError> {
-        let k = Kinetic::new(&Geo::plain(world), &Rational::zero()).map_err(RunError::Internal)?;
+    fn new(world: &World, audit: bool, hierarchical: bool) -> Result<PlainEngine, RunError> {
+        let mut shapes = Shapes::default();
+        let mut pops = 0;
+        if hierarchical {
+            shapes = refine::coarsest_shapes(world);
+            pops = refine::separate_all_at(world, &mut shapes, &Rational::zero())
+                .map_err(RunError::Internal)?;
+        }
+        let geo = Geo {
+            world,
+            shapes: &shapes,
+        };
+        let mut k = Kinetic::new(&geo, &Rational::zero()).map_err(RunError::Internal)?;
+        if pops > 0 {
+            *k.counts.entry("initial_pop").or_default() += pops;
+        }
         Ok(PlainEngine {
             k,
+            shapes,
             audit,
             contact_instant: None,
             responded: None,
@@ -374,11 +394,84 @@ impl PlainEngine {
             return Ok(());
         }
         let at = now.rational_between(&next);
-        self.k.audit(&Geo::plain(world), now, &at).map_err(|e| {
+        self.audit_at(world, now, &at).map_err(|e| {
             RunError::Internal(format!(
                 "audit failed after an internal event at t = {now}: {e}"
             ))
         })
+    }
+}
+
+impl PlainEngine {
+    fn geo<'a>(&'a self, world: &'a World) -> Geo<'a> {
+        Geo {
+            world,
+            shapes: &self.shapes,
+        }
+    }
+
+    /// The structure's audit, and for the hierarchy every approximation's
+    /// exposed set (dyadic gaps with acute turns).
+    fn audit_at(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        for (i, ap) in self.shapes.per.iter().enumerate() {
+            if let Some(ap) = ap {
+                let body = world.body(BodyId(i as u32));
+                if body.alive {
+                    ap.array
+                        .check_exposed(&body.shape, &ap.exposed)
+                        .map_err(|e| format!("approximation of {}: {e}", body.id))?;
+                }
+            }
+        }
+        self.k.audit(&self.geo(world), now, at)
+    }
+
+    /// Two approximations touch at `t` where the polygons do not: pop the
+    /// approximation vertices of the failing triple, refine the two
+    /// approximations until they are apart just after `t`, and rebuild the
+    /// structure on the refined approximations (now, or after the collision
+    /// response when contacts are pending at `t`).
+    fn refine(
+        &mut self,
+        world: &World,
+        t: &Time,
+        p: [Att; 3],
+        after_response: bool,
+    ) -> Result<(), RunError> {
+        let mut pops = 0u64;
+        for a in p {
+            if !self.geo(world).is_real(a) {
+                pops += u64::from(refine::pop(&mut self.shapes, a));
+            }
+        }
+        let mut bodies: Vec<BodyId> = p
+            .iter()
+            .filter_map(|a| match a.obj {
+                Obj::Body(b) => Some(b),
+                Obj::Omega => None,
+            })
+            .collect();
+        bodies.sort();
+        bodies.dedup();
+        for i in 0..bodies.len() {
+            for j in i + 1..bodies.len() {
+                pops += refine::separate_after(world, &mut self.shapes, (bodies[i], bodies[j]), t)
+                    .map_err(RunError::Internal)?;
+            }
+        }
+        *self.k.counts.entry("pop").or_default() += pops;
+        if after_response {
+            self.k.rebuild_after_response("refine_rebuild");
+        } else {
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            self.k
+                .rebuild_after(&geo, t, "refine_rebuild")
+                .map_err(RunError::Internal)?;
+        }
+        Ok(())
     }
 }
 
@@ -415,9 +508,13 @@ impl Engine for PlainEngine {
                     _ => false,
                 }
             };
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
             match self
                 .k
-                .step(&Geo::plain(world), limit, &contacts, &collides)
+                .step(&geo, limit, &contacts, &collides)
                 .map_err(RunError::Internal)?
             {
                 Step::Idle => break,
@@ -431,6 +528,12 @@ impl Engine for PlainEngine {
                     at = Some(t);
                 }
                 Step::Deferred(_) => {}
+                Step::Refine(t, p) => {
+                    self.refine(world, &t, p, !contacts.is_empty())?;
+                    if self.audit && contacts.is_empty() {
+                        self.audit_now(world, &t)?;
+                    }
+                }
                 Step::Internal(t) => {
                     if last.as_ref() == Some(&t) {
                         ops_now += 1;
@@ -443,8 +546,12 @@ impl Engine for PlainEngine {
                                 )));
                             }
                             if contacts.is_empty() {
+                                let geo = Geo {
+                                    world,
+                                    shapes: &self.shapes,
+                                };
                                 self.k
-                                    .rebuild_after(&Geo::plain(world), &t)
+                                    .rebuild_after(&geo, &t, "degenerate_rebuild")
                                     .map_err(RunError::Internal)?;
                             } else {
                                 // after the collision response
@@ -497,13 +604,26 @@ impl Engine for PlainEngine {
             let t = now
                 .as_rational()
                 .ok_or_else(|| RunError::Internal("irrational world time".into()))?;
-            self.k
-                .rebuild(&Geo::plain(world), t)
-                .map_err(RunError::Internal)?;
+            for &b in bodies {
+                if let Some(slot) = self.shapes.per.get_mut(b.index()) {
+                    if !world.body(b).alive {
+                        *slot = None;
+                    }
+                }
+            }
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            self.k.rebuild(&geo, t).map_err(RunError::Internal)?;
             *self.k.counts.entry("rebuild").or_default() += 1;
         } else {
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
             self.k
-                .motion_changed(&Geo::plain(world), now, bodies)
+                .motion_changed(&geo, now, bodies)
                 .map_err(RunError::Internal)?;
         }
         Ok(())
@@ -514,7 +634,7 @@ impl Engine for PlainEngine {
     }
 
     fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
-        self.k.audit(&Geo::plain(world), now, at)
+        self.audit_at(world, now, at)
     }
 
     fn certificates(&self) -> (u64, u64) {
@@ -529,7 +649,12 @@ impl Engine for PlainEngine {
         self.k
             .counts
             .iter()
-            .filter(|(k, _)| !matches!(**k, "repair" | "rebuild" | "degenerate_rebuild"))
+            .filter(|(k, _)| {
+                !matches!(
+                    **k,
+                    "repair" | "rebuild" | "degenerate_rebuild" | "refine_rebuild"
+                )
+            })
             .map(|(k, v)| (k.to_string(), *v))
             .collect()
     }

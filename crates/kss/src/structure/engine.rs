@@ -58,9 +58,10 @@ pub struct Kinetic {
     later: Option<(Time, Vec<[Att; 3]>)>,
     /// The certificate whose failure is being handled.
     handling: Option<[Att; 3]>,
-    /// The local operations failed at an instant with contacts: the
-    /// structure is rebuilt when the collision response is applied.
-    broken: bool,
+    /// The local operations failed (or the hierarchy was refined) at an
+    /// instant with contacts: the structure is rebuilt when the collision
+    /// response is applied (the rebuild's kind for the statistics).
+    broken: Option<&'static str>,
     /// Internal events by kind.
     pub counts: BTreeMap<&'static str, u64>,
 }
@@ -200,6 +201,10 @@ pub enum Step {
     Contact(Time, Vec<(BodyId, BodyId)>),
     /// A failure at this time next to a contact, set aside.
     Deferred(Time),
+    /// Two approximations touch at this time where the polygons do not (a
+    /// certificate with an approximation vertex on this triple failed): the
+    /// hierarchy must refine them there.
+    Refine(Time, [Att; 3]),
 }
 
 impl Kinetic {
@@ -416,8 +421,8 @@ impl Kinetic {
             }
             self.handling = None;
         }
-        if self.broken {
-            self.rebuild_after(world, now)?;
+        if let Some(kind) = self.broken.take() {
+            self.rebuild_after(world, now, kind)?;
         }
         Ok(())
     }
@@ -425,7 +430,13 @@ impl Kinetic {
     /// Give up on the local operations at this instant (they cycle) and
     /// rebuild once the collision response has been applied.
     pub fn give_up_instant(&mut self) {
-        self.broken = true;
+        self.broken = Some("degenerate_rebuild");
+    }
+
+    /// The structure is rebuilt (counted as `kind`) once the collision
+    /// response at this instant has been applied.
+    pub fn rebuild_after_response(&mut self, kind: &'static str) {
+        self.broken.get_or_insert(kind);
     }
 
     /// Pop and handle the earliest failure if it is at most `limit`.
@@ -496,6 +507,7 @@ impl Kinetic {
                 }
                 Failure::Between { .. } => nearby_contact(world, &p, &t).into_iter().collect(),
             };
+            let touch = !pairs.is_empty();
             let pairs: Vec<(BodyId, BodyId)> = pairs
                 .into_iter()
                 .filter(|&(a, b)| collides(a, b, &t))
@@ -503,6 +515,9 @@ impl Kinetic {
             if !pairs.is_empty() {
                 self.waiting.push(p);
                 return Ok(Step::Contact(t, pairs));
+            }
+            if touch && p.iter().any(|&a| !world.is_real(a)) {
+                return Ok(Step::Refine(t, p));
             }
             // not a contact, or a touch that is not a collision: a
             // structural failure
@@ -526,13 +541,13 @@ impl Kinetic {
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, String> {
-        if self.broken {
+        if self.broken.is_some() {
             return Ok(Step::Deferred(t));
         }
         match self.handle(world, p, t.clone(), contacts, collides) {
             Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
                 trace!("local operations failed at {}: {e}; rebuilding", t.to_f64());
-                self.rebuild_after(world, &t)
+                self.rebuild_after(world, &t, "degenerate_rebuild")
                     .map_err(|r| format!("{e}; then {r}"))?;
                 Ok(Step::Internal(t))
             }
@@ -543,7 +558,7 @@ impl Kinetic {
                     "local operations failed at {}: {_e}; rebuilding after the response",
                     t.to_f64()
                 );
-                self.broken = true;
+                self.broken = Some("degenerate_rebuild");
                 Ok(Step::Deferred(t))
             }
             other => other,
@@ -556,7 +571,12 @@ impl Kinetic {
     /// `now`. The fallback for instants where several degeneracies coincide
     /// and the local operations find no valid structure (counted as
     /// `degenerate_rebuild`; see ARCHITECTURE.md).
-    pub fn rebuild_after(&mut self, world: &Geo, now: &Time) -> Result<(), String> {
+    pub fn rebuild_after(
+        &mut self,
+        world: &Geo,
+        now: &Time,
+        kind: &'static str,
+    ) -> Result<(), String> {
         let f = now.to_f64();
         let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
         for _ in 0..200 {
@@ -580,7 +600,7 @@ impl Kinetic {
                     }
                     fresh.counts = std::mem::take(&mut self.counts);
                     fresh.max_active = fresh.max_active.max(self.max_active);
-                    *fresh.counts.entry("degenerate_rebuild").or_default() += 1;
+                    *fresh.counts.entry(kind).or_default() += 1;
                     *self = fresh;
                     return Ok(());
                 }
@@ -630,6 +650,9 @@ impl Kinetic {
                 self.waiting.push(p);
                 return Ok(Step::Contact(t, pairs));
             }
+            if p.iter().any(|&a| !world.is_real(a)) {
+                return Ok(Step::Refine(t, p));
+            }
             // two polygons touch but do not collide (they slid along each
             // other, or the collision response at this instant already
             // separates them): a structural event at the touching vertex
@@ -639,10 +662,10 @@ impl Kinetic {
                 None => {
                     trace!("settled contact at {}: rebuilding", t.to_f64());
                     if contacts.is_empty() && self.waiting.is_empty() {
-                        self.rebuild_after(world, &t)?;
+                        self.rebuild_after(world, &t, "degenerate_rebuild")?;
                         return Ok(Step::Internal(t));
                     }
-                    self.broken = true;
+                    self.broken = Some("degenerate_rebuild");
                     return Ok(Step::Deferred(t));
                 }
             }

@@ -5,7 +5,9 @@
 //! steps modulo `n`). For the hierarchical structure (issue 4) a body is
 //! seen as its current outer approximation: the ids are the exposed indices
 //! of its replicated edge array, and vertex `k` is the approximation vertex
-//! `av(pred_S(k), k)` (see [`crate::hier`]). Everything in `structure/`
+//! `av(pred_S(k), k)` (see [`crate::hier`]); an id whose edge has length
+//! zero (three exposed lines through one real vertex) is hidden, its vertex
+//! being the next one's. Everything in `structure/`
 //! reads geometry through a [`Geo`], so the same operations serve both.
 
 use std::sync::Arc;
@@ -34,6 +36,39 @@ pub struct Shapes {
 }
 
 static REAL: Shapes = Shapes { per: Vec::new() };
+
+impl Approx {
+    /// Whether exposed id `k` is hidden: its edge has length zero (three
+    /// exposed lines through one real vertex), so its vertex coincides with
+    /// the next one, which stands for both.
+    pub fn hidden(&self, k: usize) -> bool {
+        let (Some(i), Some(j)) = (self.exposed.pred(k), self.exposed.succ(k)) else {
+            return false;
+        };
+        match (self.array.av_is_real(i, k), self.array.av_is_real(k, j)) {
+            (Some(u), Some(v)) => u == v,
+            _ => false,
+        }
+    }
+
+    /// The visible id after `k` (counter-clockwise).
+    fn next_visible(&self, k: usize) -> usize {
+        let mut x = self.exposed.succ(k).expect("a non-empty set");
+        while self.hidden(x) && x != k {
+            x = self.exposed.succ(x).expect("a non-empty set");
+        }
+        x
+    }
+
+    /// The visible id before `k` (clockwise).
+    fn prev_visible(&self, k: usize) -> usize {
+        let mut x = self.exposed.pred(k).expect("a non-empty set");
+        while self.hidden(x) && x != k {
+            x = self.exposed.pred(x).expect("a non-empty set");
+        }
+        x
+    }
+}
 
 impl Shapes {
     /// Every body seen as its real polygon (the plain structure).
@@ -77,7 +112,7 @@ impl<'a> Geo<'a> {
     pub fn count(&self, b: BodyId) -> u32 {
         match self.shapes.approx(b) {
             None => self.world.body(b).shape.len() as u32,
-            Some(a) => a.exposed.len() as u32,
+            Some(a) => a.exposed.iter().filter(|&k| !a.hidden(k)).count() as u32,
         }
     }
 
@@ -93,7 +128,12 @@ impl<'a> Geo<'a> {
     pub fn ids(&self, b: BodyId) -> Vec<u32> {
         match self.shapes.approx(b) {
             None => (0..self.world.body(b).shape.len() as u32).collect(),
-            Some(a) => a.exposed.iter().map(|k| k as u32).collect(),
+            Some(a) => a
+                .exposed
+                .iter()
+                .filter(|&k| !a.hidden(k))
+                .map(|k| k as u32)
+                .collect(),
         }
     }
 
@@ -108,12 +148,12 @@ impl<'a> Geo<'a> {
                 (a.v + n - (k % n)) % n
             }
             Some(ap) => {
-                let n = ap.exposed.len();
-                let r = ap.exposed.rank(a.v as usize);
-                let k = k as usize % n;
-                ap.exposed
-                    .select((r + n - k) % n)
-                    .expect("rank within the set") as u32
+                let n = self.count(b) as usize;
+                let mut x = a.v as usize;
+                for _ in 0..(k as usize % n) {
+                    x = ap.prev_visible(x);
+                }
+                x as u32
             }
         };
         Att { obj: a.obj, v }
@@ -126,9 +166,24 @@ impl<'a> Geo<'a> {
         };
         let v = match self.shapes.approx(b) {
             None => (a.v + 1) % self.world.body(b).shape.len() as u32,
-            Some(ap) => ap.exposed.succ(a.v as usize).expect("a non-empty set") as u32,
+            Some(ap) => ap.next_visible(a.v as usize) as u32,
         };
         Att { obj: a.obj, v }
+    }
+
+    /// Whether `a` is a real polygon vertex (always, unless its body is seen
+    /// through an approximation and `a` is an approximation vertex).
+    pub fn is_real(&self, a: Att) -> bool {
+        let Obj::Body(b) = a.obj else {
+            return true;
+        };
+        match self.shapes.approx(b) {
+            None => true,
+            Some(ap) => ap
+                .exposed
+                .pred(a.v as usize)
+                .is_some_and(|i| ap.array.av_is_real(i, a.v as usize).is_some()),
+        }
     }
 
     /// The moving position of vertex `a` (a finite point).

@@ -1,0 +1,235 @@
+//! Refining the hierarchy's outer approximations where they meet: at the
+//! start (every pair of approximations must be disjoint before the
+//! structure is built on them) and when two approximations touch during the
+//! run where the polygons do not (the paper's pop events).
+//!
+//! Two convex approximations are apart when an edge line of one has the
+//! whole other strictly outside. When they are not, the approximation
+//! vertices of each that are not strictly outside the other are popped
+//! (each pop replaces a vertex `av(i, k)` by `av(i, top(i, k))` and
+//! `av(top(i, k), k)`, cutting off the corner), or, if there is none (two
+//! approximations crossing like a star of David), every approximation
+//! vertex whose edges are involved. Popping only ever shrinks an
+//! approximation towards its polygon, and polygons that are apart are
+//! separated after finitely many pops, so the loops end.
+
+use std::sync::Arc;
+
+use super::geo::{Approx, Geo, Shapes};
+use super::Att;
+use crate::geom::orient;
+use crate::hier::EdgeArray;
+use crate::motion::orient_poly;
+use crate::num::{Rational, Sign, Time};
+use crate::world::{BodyId, World};
+
+/// Every alive body seen through the coarsest approximation of its
+/// hierarchy (at most about 32 lines each).
+pub fn coarsest_shapes(world: &World) -> Shapes {
+    Shapes {
+        per: world
+            .bodies()
+            .iter()
+            .map(|b| {
+                b.alive.then(|| {
+                    let array = Arc::new(EdgeArray::new(&b.shape));
+                    let exposed = array.coarsest();
+                    Approx { array, exposed }
+                })
+            })
+            .collect(),
+    }
+}
+
+/// Pop vertex `a` of its body's approximation; whether it changed.
+pub fn pop(shapes: &mut Shapes, a: Att) -> bool {
+    let super::Obj::Body(b) = a.obj else {
+        return false;
+    };
+    match shapes.per.get_mut(b.index()).and_then(Option::as_mut) {
+        Some(ap) => ap.array.pop(&mut ap.exposed, a.v as usize).is_some(),
+        None => false,
+    }
+}
+
+/// The approximation vertices to pop so that `a` and `b` come apart, or
+/// `None` if they are apart already; `sign(u, v, w)` is the orientation
+/// used (at an instant, or just after one).
+fn involved(
+    geo: &Geo,
+    a: BodyId,
+    b: BodyId,
+    sign: &dyn Fn(Att, Att, Att) -> Sign,
+) -> Option<Vec<Att>> {
+    let ring =
+        |x: BodyId| -> Vec<Att> { geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect() };
+    let (pa, pb) = (ring(a), ring(b));
+    // an edge of `p` with every vertex of `q` strictly outside
+    let separates = |p: &[Att], q: &[Att]| {
+        (0..p.len()).any(|i| {
+            let (u, v) = (p[i], p[(i + 1) % p.len()]);
+            q.iter().all(|&w| sign(u, v, w) == Sign::Negative)
+        })
+    };
+    if separates(&pa, &pb) || separates(&pb, &pa) {
+        return None;
+    }
+    let inside = |p: &[Att], w: Att| {
+        (0..p.len()).all(|i| sign(p[i], p[(i + 1) % p.len()], w) != Sign::Negative)
+    };
+    let mut out: Vec<Att> = pb
+        .iter()
+        .filter(|&&w| !geo.is_real(w) && inside(&pa, w))
+        .chain(pa.iter().filter(|&&w| !geo.is_real(w) && inside(&pb, w)))
+        .copied()
+        .collect();
+    if out.is_empty() {
+        out = pa
+            .iter()
+            .chain(&pb)
+            .filter(|&&w| !geo.is_real(w))
+            .copied()
+            .collect();
+    }
+    Some(out)
+}
+
+/// Pop `a`'s and `b`'s approximations until `sign` says they are apart;
+/// the number of pops.
+fn separate(
+    world: &World,
+    shapes: &mut Shapes,
+    (a, b): (BodyId, BodyId),
+    sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
+) -> Result<u64, String> {
+    let mut pops = 0;
+    loop {
+        let geo = Geo { world, shapes };
+        let Some(todo) = involved(&geo, a, b, &|u, v, w| sign(&geo, u, v, w)) else {
+            return Ok(pops);
+        };
+        if todo.is_empty() {
+            return Err(format!(
+                "bodies {} and {} overlap with no approximation vertex left to refine",
+                world.body(a).id,
+                world.body(b).id
+            ));
+        }
+        for x in todo {
+            pops += u64::from(pop(shapes, x));
+        }
+    }
+}
+
+/// Pop the approximations of bodies `a` and `b` until they are apart just
+/// after `t`; the number of pops.
+pub fn separate_after(
+    world: &World,
+    shapes: &mut Shapes,
+    (a, b): (BodyId, BodyId),
+    t: &Time,
+) -> Result<u64, String> {
+    separate(world, shapes, (a, b), &|geo, u, v, w| {
+        orient_poly(&geo.point(u), &geo.point(v), &geo.point(w)).sign_after(t)
+    })
+}
+
+/// Pop approximations until every two are apart (closed sets disjoint) at
+/// time `t`; the number of pops. A sweep over bounding boxes finds the
+/// pairs to test.
+pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Result<u64, String> {
+    let boxes: Vec<Option<[f64; 4]>> = {
+        let geo = Geo { world, shapes };
+        world
+            .bodies()
+            .iter()
+            .enumerate()
+            .map(|(i, body)| {
+                body.alive.then(|| {
+                    let id = BodyId(i as u32);
+                    let mut bx = [
+                        f64::INFINITY,
+                        f64::INFINITY,
+                        f64::NEG_INFINITY,
+                        f64::NEG_INFINITY,
+                    ];
+                    for v in geo.ids(id) {
+                        let p = geo
+                            .position(Att::vertex(id, v), t)
+                            .expect("a finite point")
+                            .to_f64();
+                        // widened outwards: rounding never hides an overlap
+                        let pad = |x: f64| x.abs() * 1e-9 + 1e-300;
+                        bx[0] = bx[0].min(p[0] - pad(p[0]));
+                        bx[1] = bx[1].min(p[1] - pad(p[1]));
+                        bx[2] = bx[2].max(p[0] + pad(p[0]));
+                        bx[3] = bx[3].max(p[1] + pad(p[1]));
+                    }
+                    bx
+                })
+            })
+            .collect()
+    };
+    let mut order: Vec<usize> = (0..boxes.len()).filter(|&i| boxes[i].is_some()).collect();
+    order.sort_by(|&i, &j| {
+        let (x, y) = (boxes[i].expect("alive"), boxes[j].expect("alive"));
+        x[0].total_cmp(&y[0])
+    });
+    let mut pops = 0;
+    for (n, &i) in order.iter().enumerate() {
+        let bi = boxes[i].expect("alive");
+        for &j in &order[n + 1..] {
+            let bj = boxes[j].expect("alive");
+            if bj[0] > bi[2] {
+                break;
+            }
+            if bj[1] > bi[3] || bi[1] > bj[3] {
+                continue;
+            }
+            let pair = (BodyId(i as u32), BodyId(j as u32));
+            pops += separate(world, shapes, pair, &|geo, u, v, w| {
+                let p = |x: Att| geo.position(x, t).expect("a finite point");
+                orient(&p(u), &p(v), &p(w))
+            })?;
+        }
+    }
+    Ok(pops)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gen::{generate_small, Family};
+
+    #[test]
+    fn coarsest_approximations_are_refined_until_apart() {
+        for family in Family::ALL {
+            for seed in 0..20 {
+                let s = generate_small(family, seed);
+                let world = World::new(&s, None).unwrap();
+                let mut shapes = coarsest_shapes(&world);
+                separate_all_at(&world, &mut shapes, &Rational::zero()).unwrap();
+                let geo = Geo {
+                    world: &world,
+                    shapes: &shapes,
+                };
+                let n = world.len();
+                for i in 0..n {
+                    let a = BodyId(i as u32);
+                    let ap = shapes.approx(a).unwrap();
+                    ap.array
+                        .check_exposed(&world.body(a).shape, &ap.exposed)
+                        .unwrap();
+                    for j in i + 1..n {
+                        let b = BodyId(j as u32);
+                        let sign = |u, v, w| {
+                            let p = |x: Att| geo.position(x, &Rational::zero()).unwrap();
+                            orient(&p(u), &p(v), &p(w))
+                        };
+                        assert!(involved(&geo, a, b, &sign).is_none());
+                    }
+                }
+            }
+        }
+    }
+}
