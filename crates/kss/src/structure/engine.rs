@@ -397,29 +397,52 @@ impl Kinetic {
         }
         let waiting = std::mem::take(&mut self.waiting);
         touched.extend(waiting.iter().copied());
-        for p in touched {
-            self.reschedule(world, &p, now);
+        touched.sort();
+        touched.dedup();
+        for p in &touched {
+            self.reschedule(world, p, now);
         }
-        // a contact that the response turned into sliding (its turn is now
-        // zero for ever) is no longer a failure: its owners get their
-        // certificates anew (an order certificate for that triple)
-        for p in waiting {
+        for p in touched {
             let Some(s) = self.certs.get(&p) else {
                 continue;
             };
-            if s.cert.kind == super::certs::CertKind::Order
-                || cert_poly(world, &s.cert).sign_after(now) != Sign::Zero
-            {
-                continue;
-            }
-            let owners = s.owners.clone();
-            self.handling = Some(p);
-            for o in owners {
-                if matches!(o, Owner::Corr(_)) {
-                    self.refresh(world, o, now)?;
+            let lp = |a: Att| world.point(a);
+            let zero = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).sign_after(now) == Sign::Zero;
+            let owners: Vec<Owner> = s.owners.clone();
+            if s.cert.kind == super::certs::CertKind::Order {
+                // an order certificate whose three points leave their common
+                // line is a turn again (unless it fails now: two of its points
+                // meet, an event of this instant that recomputes its owners'
+                // certificates). The straight junction or cusp it certified
+                // may now have the wrong class for its face: the corridor is
+                // normalized, and if no decomposition holds just after `now`
+                // the junction keeps its old class and fails at once.
+                if zero || (self.due_now(&p, s.key, now) && is_failing(world, &s.cert, now)) {
+                    continue;
                 }
+                trace!("order certificate {p:?} becomes a turn at {}", now.to_f64());
+                for o in owners {
+                    if let Owner::Corr(k) = o {
+                        let mid = self.kss.corrs[k.0 as usize].mid;
+                        if !self.kss.faces_valid(world, k, mid, now) {
+                            self.kss.normalize(world, k, now, None)?;
+                        }
+                        self.refresh(world, o, now)?;
+                    }
+                }
+            } else if zero && waiting.contains(&p) {
+                // a contact that the response turned into sliding (its turn
+                // is now zero for ever) is no longer a failure: its owners get
+                // their certificates anew (an order certificate for that
+                // triple)
+                self.handling = Some(p);
+                for o in owners {
+                    if matches!(o, Owner::Corr(_)) {
+                        self.refresh(world, o, now)?;
+                    }
+                }
+                self.handling = None;
             }
-            self.handling = None;
         }
         if let Some(kind) = self.broken.take() {
             self.rebuild_after(world, now, kind)?;

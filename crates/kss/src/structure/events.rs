@@ -117,7 +117,22 @@ pub fn settled_between(world: &Geo, c: &Cert, t: &Time) -> Option<Failure> {
         } else if z.obj == q.obj {
             (q, p)
         } else {
-            return None;
+            // a partition triangle with corners on three bodies, two of
+            // which coincide: the one that slides into the other's polygon
+            // edge just after `t` stays a corner, the other (`x`) is the
+            // middle (it has passed the side between the other two)
+            let on_edge = |u: Att, w: Att| slides_on_edge(world, u, w, t);
+            return match (on_edge(p, q), on_edge(q, p)) {
+                (true, false) => Some(Failure::Between {
+                    middle: q,
+                    ends: (p, z),
+                }),
+                (false, true) => Some(Failure::Between {
+                    middle: p,
+                    ends: (q, z),
+                }),
+                _ => None,
+            };
         };
         return Some(Failure::Between {
             middle: x,
@@ -125,6 +140,22 @@ pub fn settled_between(world: &Geo, c: &Cert, t: &Time) -> Option<Failure> {
         });
     }
     None
+}
+
+/// Whether vertex `u` lies strictly inside a polygon edge at vertex `w`
+/// (of another body) just after `t`, and stays on that edge's line.
+fn slides_on_edge(world: &Geo, u: Att, w: Att, t: &Time) -> bool {
+    use super::local::between_after;
+    let lp = |a: Att| point(world, a);
+    [
+        super::faces::step_ccw(world, w),
+        super::faces::step_cw(world, w, 1),
+    ]
+    .into_iter()
+    .any(|w1| {
+        crate::motion::orient_poly(&lp(w), &lp(w1), &lp(u)).sign_after(t) == crate::num::Sign::Zero
+            && between_after(world, w, u, w1, t)
+    })
 }
 
 /// For a failure of a vertex against the line of another body's polygon

@@ -657,7 +657,17 @@ impl Kss {
         let (len_a, len_b) = (c.len_a, c.len_b);
         let (a_s, b_s, a_t, b_t) = self.ends(k);
         let (mut i, mut j) = (start.0.min(len_a), start.1.min(len_b));
-        let tn = |u, v, w| turn_on(world, u, v, w, t, side);
+        // a cusp (a zero turn whose neighbours lie on one side of `v`: two
+        // sliding bodies pinch the corridor) counts as convex, as in
+        // `faces_valid_core`
+        let tn = |u, v, w| match turn_on(world, u, v, w, t, side) {
+            Sign::Zero
+                if between_on(world, v, u, w, t, side) || between_on(world, v, w, u, t, side) =>
+            {
+                Sign::Positive
+            }
+            s => s,
+        };
         for steps in 0..limit {
             let alpha = step_cw(world, a_s, i);
             let beta = step_cw(world, b_t, j);

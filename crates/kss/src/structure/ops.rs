@@ -51,6 +51,18 @@ pub struct Outcome {
     pub corrs: Vec<CorrId>,
 }
 
+/// Whether the three points of `q` and `p` are the same set. A certificate
+/// is found among its owner's junctions or hull turns by its triple: a turn
+/// certificate is the junction's triple rotated, but an order certificate is
+/// stored as `[min end, middle, max end]`, which may be the junction's
+/// triple reversed; this is the fallback when no rotation matches.
+fn same_points(q: [Att; 3], p: [Att; 3]) -> bool {
+    let (mut x, mut y) = (q, p);
+    x.sort();
+    y.sort();
+    x == y
+}
+
 impl Kss {
     fn tri_index(&self, t: TriId, a: Att) -> Result<usize, String> {
         self.tris[t.0 as usize]
@@ -318,6 +330,7 @@ impl Kss {
         let Some(&(_, x)) = turns
             .iter()
             .find(|(q, _)| rotate_to_min(*q) == rotate_to_min(p))
+            .or_else(|| turns.iter().find(|(q, _)| same_points(*q, p)))
         else {
             return Err("hull event: no such hull turn".into());
         };
@@ -346,11 +359,18 @@ impl Kss {
         p: [Att; 3],
         middle: Att,
     ) -> Result<Outcome, String> {
-        let js: Vec<_> = self
-            .junctions(world, k)
-            .into_iter()
+        let all = self.junctions(world, k);
+        let mut js: Vec<_> = all
+            .iter()
             .filter(|j| rotate_to_min([j.prev, j.v, j.next]) == rotate_to_min(p))
+            .copied()
             .collect();
+        if js.is_empty() {
+            js = all
+                .into_iter()
+                .filter(|j| same_points([j.prev, j.v, j.next], p))
+                .collect();
+        }
         // μ lands on a face edge next to it
         for j in &js {
             if middle == j.prev && j.out_edge != EdgeRef::Chain {
