@@ -47,7 +47,7 @@ const DEGENERATE: [Family; 3] = [Family::Simultaneous, Family::Grazing, Family::
 
 #[test]
 fn plain_matches_brute_on_generic_families() {
-    let (total, rebuilds) = sweep(&GENERIC);
+    let (total, rebuilds) = sweep(&GENERIC, StructureKind::Plain);
     assert_eq!(
         rebuilds, 0,
         "rebuilds on generic families ({total} scenarios)"
@@ -57,16 +57,33 @@ fn plain_matches_brute_on_generic_families() {
 #[test]
 #[ignore = "known failures on degenerate families in bounce mode (issue 3 open): see ARCHITECTURE.md"]
 fn plain_matches_brute_on_degenerate_families() {
-    let (total, rebuilds) = sweep(&DEGENERATE);
+    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
     assert!(
         rebuilds * 50 <= total as u64,
         "{rebuilds} rebuilds in {total} degenerate scenarios"
     );
 }
 
-/// Run every seed of `families` with both structures; returns the number of
-/// scenarios and the rebuilds the plain structure needed.
-fn sweep(families: &[Family]) -> (usize, u64) {
+/// The hierarchical structure on the generic families: same events as the
+/// reference, with the audit (approximations included) after every event.
+#[test]
+fn hierarchical_matches_brute_on_generic_families() {
+    let (total, rebuilds) = sweep(&GENERIC, StructureKind::Hierarchical);
+    assert_eq!(
+        rebuilds, 0,
+        "rebuilds on generic families ({total} scenarios)"
+    );
+}
+
+#[test]
+#[ignore = "known failures: the first hierarchical version rebuilds after a refinement, impossible while polygons slide along each other (issue 4 open)"]
+fn hierarchical_matches_brute_on_degenerate_families() {
+    sweep(&DEGENERATE, StructureKind::Hierarchical);
+}
+
+/// Run every seed of `families` with the reference and `structure`; returns
+/// the number of scenarios and the degenerate rebuilds `structure` needed.
+fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     let mut total = 0usize;
     let mut rebuilds = 0u64;
     let mut with_events = 0usize;
@@ -75,7 +92,7 @@ fn sweep(families: &[Family]) -> (usize, u64) {
         for seed in 0..seeds() {
             let s = generate_small(family, seed);
             let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
-            let got = events(&s, StructureKind::Plain, true).map(|(got, r)| {
+            let got = events(&s, structure, true).map(|(got, r)| {
                 rebuilds += r;
                 got
             });
@@ -95,7 +112,8 @@ fn sweep(families: &[Family]) -> (usize, u64) {
         }
     }
     eprintln!(
-        "{total} scenarios, {with_events} with collisions, {} failures, {rebuilds} rebuilds",
+        "{}: {total} scenarios, {with_events} with collisions, {} failures, {rebuilds} rebuilds",
+        structure.name(),
         failures.len()
     );
     for f in failures.iter().take(30) {

@@ -60,15 +60,22 @@ fn involved(
     a: BodyId,
     b: BodyId,
     sign: &dyn Fn(Att, Att, Att) -> Sign,
+    touch: bool,
 ) -> Option<Vec<Att>> {
     let ring =
         |x: BodyId| -> Vec<Att> { geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect() };
     let (pa, pb) = (ring(a), ring(b));
-    // an edge of `p` with every vertex of `q` strictly outside
+    // an edge of `p` with every vertex of `q` outside, strictly or (when
+    // `touch` allows it) on its line: approximations may slide along each
+    // other where the polygons do
     let separates = |p: &[Att], q: &[Att]| {
         (0..p.len()).any(|i| {
             let (u, v) = (p[i], p[(i + 1) % p.len()]);
-            q.iter().all(|&w| sign(u, v, w) == Sign::Negative)
+            q.iter().all(|&w| match sign(u, v, w) {
+                Sign::Negative => true,
+                Sign::Zero => touch,
+                Sign::Positive => false,
+            })
         })
     };
     if separates(&pa, &pb) || separates(&pb, &pa) {
@@ -101,11 +108,12 @@ fn separate(
     shapes: &mut Shapes,
     (a, b): (BodyId, BodyId),
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
+    touch: bool,
 ) -> Result<u64, String> {
     let mut pops = 0;
     loop {
         let geo = Geo { world, shapes };
-        let Some(todo) = involved(&geo, a, b, &|u, v, w| sign(&geo, u, v, w)) else {
+        let Some(todo) = involved(&geo, a, b, &|u, v, w| sign(&geo, u, v, w), touch) else {
             return Ok(pops);
         };
         if todo.is_empty() {
@@ -122,16 +130,21 @@ fn separate(
 }
 
 /// Pop the approximations of bodies `a` and `b` until they are apart just
-/// after `t`; the number of pops.
+/// after `t` (touching along a line is allowed: the polygons may slide
+/// along each other); the number of pops.
 pub fn separate_after(
     world: &World,
     shapes: &mut Shapes,
     (a, b): (BodyId, BodyId),
     t: &Time,
 ) -> Result<u64, String> {
-    separate(world, shapes, (a, b), &|geo, u, v, w| {
-        orient_poly(&geo.point(u), &geo.point(v), &geo.point(w)).sign_after(t)
-    })
+    separate(
+        world,
+        shapes,
+        (a, b),
+        &|geo, u, v, w| orient_poly(&geo.point(u), &geo.point(v), &geo.point(w)).sign_after(t),
+        true,
+    )
 }
 
 /// Pop approximations until every two are apart (closed sets disjoint) at
@@ -187,10 +200,16 @@ pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Resu
                 continue;
             }
             let pair = (BodyId(i as u32), BodyId(j as u32));
-            pops += separate(world, shapes, pair, &|geo, u, v, w| {
-                let p = |x: Att| geo.position(x, t).expect("a finite point");
-                orient(&p(u), &p(v), &p(w))
-            })?;
+            pops += separate(
+                world,
+                shapes,
+                pair,
+                &|geo, u, v, w| {
+                    let p = |x: Att| geo.position(x, t).expect("a finite point");
+                    orient(&p(u), &p(v), &p(w))
+                },
+                false,
+            )?;
         }
     }
     Ok(pops)
@@ -226,7 +245,7 @@ mod tests {
                             let p = |x: Att| geo.position(x, &Rational::zero()).unwrap();
                             orient(&p(u), &p(v), &p(w))
                         };
-                        assert!(involved(&geo, a, b, &sign).is_none());
+                        assert!(involved(&geo, a, b, &sign, false).is_none());
                     }
                 }
             }
