@@ -8,10 +8,10 @@
 //! every refinement, which cannot yet happen while two polygons slide along
 //! each other.)
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn run(file: &PathBuf, structure: &str) -> String {
+fn run(file: &Path, structure: &str) -> String {
     let mut args = vec!["run".to_string(), file.display().to_string()];
     args.extend(["--structure".to_string(), structure.to_string()]);
     if structure != "brute" {

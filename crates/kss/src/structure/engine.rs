@@ -705,6 +705,39 @@ impl Kinetic {
                     return Ok(Step::Deferred(t));
                 }
                 let owner = *owners.first().ok_or("certificate without owner")?;
+                // a partition triangle at an end of the corridor that
+                // collapses at this instant goes first: the corridor's
+                // operations assume its end triangles, and two of its
+                // junctions can otherwise hand an edge back and forth
+                // across the degenerate triangle for ever
+                let moved_tri = match owner {
+                    Owner::Corr(k) if self.kss.corrs[k.0 as usize].b != Obj::Omega => {
+                        let c = &self.kss.corrs[k.0 as usize];
+                        match self.kss.junction_plan(world, k, p, middle) {
+                            Ok((super::local::EdgeRef::EndS, _, _, true)) => Some(c.s.0),
+                            Ok((super::local::EdgeRef::EndT, _, _, true)) => Some(c.t.0),
+                            _ => None,
+                        }
+                    }
+                    _ => None,
+                };
+                // (only the triangle whose corner the operation would move)
+                let collapsing = moved_tri.and_then(|tri| {
+                    let q = self.kss.triangle_certs(tri).first().map(|c| c.p)?;
+                    let s = self.certs.get(&q)?;
+                    let due = s
+                        .key
+                        .is_some_and(|key| self.queue.get(key).is_some_and(|(tq, _)| *tq == t));
+                    (q != p && due && is_failing(world, &s.cert, &t)).then_some((tri, q))
+                });
+                if let Some((_tri, q)) = collapsing {
+                    trace!("triangle {} collapses first", _tri.0);
+                    if let Some(key) = self.certs.get_mut(&q).and_then(|s| s.key.take()) {
+                        self.queue.cancel(key);
+                    }
+                    self.reschedule(world, &p, &t);
+                    return self.handle(world, q, t, contacts, collides);
+                }
                 let out = self.kss.process(world, owner, p, middle, &t)?;
                 self.handling = Some(p);
                 self.kss.handling = Some(p);

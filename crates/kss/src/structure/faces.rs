@@ -175,9 +175,12 @@ impl Kss {
                     return Err(format!("corridor {ki} face {fi} has {n} vertices"));
                 }
                 let mut convex = 0;
+                let mut all_zero = true;
                 for x in 0..n {
                     let (u, v, w) = (face[(x + n - 1) % n], face[x], face[(x + 1) % n]);
-                    match turn_after(world, u, v, w, t) {
+                    let s = turn_after(world, u, v, w, t);
+                    all_zero &= s == Sign::Zero;
+                    match s {
                         Sign::Positive => convex += 1,
                         Sign::Negative => {}
                         Sign::Zero if straight_forever(world, u, v, w, t) => {}
@@ -189,7 +192,9 @@ impl Kss {
                         }
                     }
                 }
-                if convex != 3 {
+                // a flat face (two bodies sliding flush along a common
+                // line): two cusps, every other vertex straight
+                if convex != 3 && !(all_zero && convex == 2) {
                     return Err(format!(
                         "corridor {ki} face {fi} has {convex} convex vertices: {face:?}"
                     ));

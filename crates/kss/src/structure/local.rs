@@ -313,7 +313,8 @@ impl Kss {
                 return false;
             }
         }
-        for face in self.junctions_with(world, k, mid) {
+        let shapes = self.faces_with(world, k, mid);
+        for (fi, face) in self.junctions_with(world, k, mid).into_iter().enumerate() {
             let Some(js) = face else {
                 // a face with two vertices: only an empty corridor has one
                 if c.len_a == 0 && c.len_b == 0 {
@@ -322,8 +323,10 @@ impl Kss {
                 return false;
             };
             let mut convex = 0;
+            let mut all_zero = true;
             for j in &js {
                 let s = sign(j);
+                all_zero &= s == Sign::Zero;
                 // a junction must also keep its polygon out of the face (a
                 // pseudo-triangle's sign pattern alone allows a face that
                 // wraps around a vertex); not checked when some signs are
@@ -354,7 +357,11 @@ impl Kss {
             // a face whose pieces are single vertices has fewer junction
             // entries than vertices only when a piece repeats a triple;
             // triangles list each corner once per piece end
-            if convex != 3 {
+            // a flat face: every vertex on one line for ever (two bodies
+            // sliding flush along a common line, their chains single edges
+            // that overlap): its two ends are cusps and the rest straight
+            let flat = all_zero && convex == 2 && shapes[fi].p.iter().all(|p| p.len <= 1);
+            if convex != 3 && !flat {
                 return false;
             }
         }

@@ -359,6 +359,20 @@ impl Kss {
         p: [Att; 3],
         middle: Att,
     ) -> Result<Outcome, String> {
+        let (e, from, to, onto) = self.junction_plan(world, k, p, middle)?;
+        self.slide_bridge(world, k, e, from, to, onto)
+    }
+
+    /// Which bridge end the failure of junction `p` of corridor `k` (with
+    /// `middle` between the other two) moves: `(bridge, from, to, onto)`
+    /// for [`Kss::slide_bridge`].
+    pub fn junction_plan(
+        &self,
+        world: &Geo,
+        k: CorrId,
+        p: [Att; 3],
+        middle: Att,
+    ) -> Result<(EdgeRef, Att, Att, bool), String> {
         let all = self.junctions(world, k);
         let mut js: Vec<_> = all
             .iter()
@@ -375,18 +389,18 @@ impl Kss {
         for j in &js {
             if middle == j.prev && j.out_edge != EdgeRef::Chain {
                 if j.in_edge == EdgeRef::Chain {
-                    return self.slide_bridge(world, k, j.out_edge, j.v, middle, true);
+                    return Ok((j.out_edge, j.v, middle, true));
                 }
                 if poly_edge(world, j.next, middle) {
-                    return self.slide_bridge(world, k, j.out_edge, j.next, middle, true);
+                    return Ok((j.out_edge, j.next, middle, true));
                 }
             }
             if middle == j.next && j.in_edge != EdgeRef::Chain {
                 if j.out_edge == EdgeRef::Chain {
-                    return self.slide_bridge(world, k, j.in_edge, j.v, middle, true);
+                    return Ok((j.in_edge, j.v, middle, true));
                 }
                 if poly_edge(world, j.prev, middle) {
-                    return self.slide_bridge(world, k, j.in_edge, j.prev, middle, true);
+                    return Ok((j.in_edge, j.prev, middle, true));
                 }
             }
         }
@@ -395,10 +409,10 @@ impl Kss {
             if middle == j.v {
                 match (j.in_edge, j.out_edge) {
                     (EdgeRef::Chain, e) if e != EdgeRef::Chain => {
-                        return self.slide_bridge(world, k, e, j.v, j.prev, false);
+                        return Ok((e, j.v, j.prev, false));
                     }
                     (e, EdgeRef::Chain) if e != EdgeRef::Chain => {
-                        return self.slide_bridge(world, k, e, j.v, j.next, false);
+                        return Ok((e, j.v, j.next, false));
                     }
                     _ => {}
                 }
