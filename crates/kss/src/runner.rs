@@ -426,26 +426,35 @@ impl PlainEngine {
         self.k.audit(&self.geo(world), now, at)
     }
 
-    /// Two approximations touch at `t` where the polygons do not: pop the
-    /// approximation vertices of the failing triple, refine the two
+    /// Approximations touch at `t` where the polygons do not: pop the
+    /// approximation vertices of the failing triples, refine the
     /// approximations until they are apart just after `t`, and rebuild the
     /// structure on the refined approximations (now, or after the collision
-    /// response when contacts are pending at `t`).
+    /// response when contacts are pending at `t`). Called once every
+    /// possible contact of the instant has been classified, so that a
+    /// contact at `t` is never lost in the rebuild.
     fn refine(
         &mut self,
         world: &World,
         t: &Time,
-        p: [Att; 3],
+        triples: &[[Att; 3]],
         after_response: bool,
     ) -> Result<(), RunError> {
         let mut pops = 0u64;
-        for a in p {
-            if !self.geo(world).is_real(a) {
-                pops += u64::from(refine::pop(&mut self.shapes, a));
-            }
-        }
-        let mut bodies: Vec<BodyId> = p
+        let mut popped: Vec<Att> = triples
             .iter()
+            .flatten()
+            .copied()
+            .filter(|&a| !self.geo(world).is_real(a))
+            .collect();
+        popped.sort();
+        popped.dedup();
+        for a in popped {
+            pops += u64::from(refine::pop(&mut self.shapes, a));
+        }
+        let mut bodies: Vec<BodyId> = triples
+            .iter()
+            .flatten()
             .filter_map(|a| match a.obj {
                 Obj::Body(b) => Some(b),
                 Obj::Omega => None,
@@ -482,7 +491,20 @@ impl Engine for PlainEngine {
         let mut ops_now = 0u64;
         let mut rebuilt_now = false;
         let mut last: Option<Time> = None;
+        let mut refines: Vec<[Att; 3]> = Vec::new();
+        let mut refine_at: Option<Time> = None;
         loop {
+            if let Some(rt) = &refine_at {
+                if !self.k.contact_candidate_due(rt) {
+                    let rt = rt.clone();
+                    self.refine(world, &rt, &refines, !contacts.is_empty())?;
+                    refines.clear();
+                    refine_at = None;
+                    if self.audit && contacts.is_empty() {
+                        self.audit_now(world, &rt)?;
+                    }
+                }
+            }
             if let Some(a) = &at {
                 if self.k.next_time() != Some(a) {
                     break;
@@ -517,6 +539,7 @@ impl Engine for PlainEngine {
                 .step(&geo, limit, &contacts, &collides)
                 .map_err(RunError::Internal)?
             {
+                Step::Idle if refine_at.is_some() => {} // refined at the loop's top
                 Step::Idle => break,
                 Step::Contact(t, pairs) => {
                     for (a, b) in pairs {
@@ -529,10 +552,9 @@ impl Engine for PlainEngine {
                 }
                 Step::Deferred(_) => {}
                 Step::Refine(t, p) => {
-                    self.refine(world, &t, p, !contacts.is_empty())?;
-                    if self.audit && contacts.is_empty() {
-                        self.audit_now(world, &t)?;
-                    }
+                    // refined once every possible contact at `t` is known
+                    refines.push(p);
+                    refine_at = Some(t);
                 }
                 Step::Internal(t) => {
                     if last.as_ref() == Some(&t) {

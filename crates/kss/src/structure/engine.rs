@@ -462,6 +462,14 @@ impl Kinetic {
         self.broken.get_or_insert(kind);
     }
 
+    /// Whether a failure that could be a contact is still queued at `t`
+    /// (such failures are popped first at an instant).
+    pub fn contact_candidate_due(&self, t: &Time) -> bool {
+        self.queue
+            .peek()
+            .is_some_and(|(_, tq, tie, _)| tq == t && tie == 0)
+    }
+
     /// Pop and handle the earliest failure if it is at most `limit`.
     ///
     /// At one instant, every failure that could be a contact (a vertex
