@@ -311,9 +311,10 @@ pub struct RenderArgs {
     /// Do not draw velocity arrows.
     #[arg(long)]
     pub no_velocities: bool,
-    /// With --structure plain: do not draw the kinetic separation structure
-    /// (drawn by default: partition triangles, corridor faces, bridges, and
-    /// the certificates that fail next).
+    /// Do not draw the kinetic separation structure (drawn by default with
+    /// the plain and hierarchical structures: partition triangles, corridor
+    /// faces, bridges, the certificates that fail next and, for the
+    /// hierarchy, the outer approximations).
     #[arg(long)]
     pub no_structure: bool,
     /// With the structure: highlight the N certificates that fail next.
@@ -322,6 +323,14 @@ pub struct RenderArgs {
     /// With the structure: no legend.
     #[arg(long)]
     pub no_legend: bool,
+    /// An animation: this many frames from --time to --to, evenly spaced,
+    /// written as OUTPUT-000.svg, OUTPUT-001.svg, ... (OUTPUT without its
+    /// .svg; --output is required), all with the same view.
+    #[arg(long, value_name = "N", requires = "to", requires = "output")]
+    pub frames: Option<u32>,
+    /// The last instant of an animation (with --frames).
+    #[arg(long, value_name = "T", value_parser = parse_non_negative)]
+    pub to: Option<f64>,
 }
 
 /// `kss demo`.
@@ -330,8 +339,7 @@ pub struct DemoArgs {
     /// Where to write the picture.
     #[arg(short, long, value_name = "FILE", default_value = "kss-demo.svg")]
     pub output: PathBuf,
-    /// The kinetic structure (hierarchical falls back to plain while it is
-    /// not implemented).
+    /// The kinetic structure.
     #[arg(long, value_enum, default_value_t = StructureArg::Hierarchical)]
     pub structure: StructureArg,
 }

@@ -497,47 +497,88 @@ pub fn gen_command(args: &GenArgs) -> Result<(), CliError> {
 /// `kss render`.
 pub fn render(args: &RenderArgs) -> Result<(), CliError> {
     let scenario = load_scenario(&args.scenario)?;
-    let mut structure = StructureKind::from(args.structure);
-    if structure == StructureKind::Hierarchical {
-        // not implemented yet: draw the plain structure instead
-        eprintln!("kss render: the hierarchical structure is not implemented yet; drawing plain");
-        structure = StructureKind::Plain;
-    }
+    let structure = StructureKind::from(args.structure);
     let options = RunOptions {
         structure,
         ..Default::default()
     };
-    let with_structure = options.structure == StructureKind::Plain && !args.no_structure;
-    let snapshot = if with_structure {
-        kss::runner::structure_snapshot_at(&scenario, &options, args.time, args.highlight)
-    } else {
-        kss::runner::snapshot_at(&scenario, &options, args.time)
+    let with_structure = options.structure != StructureKind::Brute && !args.no_structure;
+    let snapshot_at = |t: f64| {
+        if with_structure {
+            kss::runner::structure_snapshot_at(&scenario, &options, t, args.highlight)
+        } else {
+            kss::runner::snapshot_at(&scenario, &options, t)
+        }
+        .map_err(|e| CliError::from_run(&args.scenario, e))
+    };
+    let times: Vec<f64> = match (args.frames, args.to) {
+        (Some(n), Some(to)) if n > 1 => (0..n)
+            .map(|i| args.time + (to - args.time) * f64::from(i) / f64::from(n - 1))
+            .collect(),
+        _ => vec![args.time],
+    };
+    let mut snapshots = Vec::with_capacity(times.len());
+    for &t in &times {
+        let snapshot = snapshot_at(t)?;
+        if let Some(note) = snapshot.structure.as_ref().and_then(|s| s.note.as_ref()) {
+            eprintln!("kss render: t = {t}: {note}");
+        }
+        snapshots.push(snapshot);
     }
-    .map_err(|e| CliError::from_run(&args.scenario, e))?;
-    if let Some(note) = snapshot.structure.as_ref().and_then(|s| s.note.as_ref()) {
-        eprintln!("kss render: {note}");
-    }
-    let picture = kss::render::svg(
-        &snapshot,
-        &kss::render::RenderOptions {
-            width: args.width,
-            height: args.height,
-            show_ids: !args.no_ids,
-            show_velocities: !args.no_velocities,
-            view: args.view,
-            show_structure: with_structure,
-            show_legend: !args.no_legend,
-            ..Default::default()
-        },
-    );
-    write_output(args.output.as_ref(), &picture)?;
-    if let Some(p) = &args.output {
-        if p.as_os_str() != "-" {
-            eprintln!(
-                "kss: picture at t = {} written to {}",
-                args.time,
-                p.display()
-            );
+    // one view for every frame of an animation: the union of their scenes
+    let view = args.view.or_else(|| {
+        (snapshots.len() > 1).then(|| {
+            let mut v = [
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+            ];
+            for p in snapshots.iter().flat_map(|s| &s.polygons) {
+                for q in &p.vertices {
+                    v = [
+                        v[0].min(q[0]),
+                        v[1].min(q[1]),
+                        v[2].max(q[0]),
+                        v[3].max(q[1]),
+                    ];
+                }
+            }
+            let pad = 0.05 * (v[2] - v[0]).max(v[3] - v[1]);
+            [v[0] - pad, v[1] - pad, v[2] + pad, v[3] + pad]
+        })
+    });
+    for (i, snapshot) in snapshots.iter().enumerate() {
+        let picture = kss::render::svg(
+            snapshot,
+            &kss::render::RenderOptions {
+                width: args.width,
+                height: args.height,
+                show_ids: !args.no_ids,
+                show_velocities: !args.no_velocities,
+                view,
+                show_structure: with_structure,
+                show_legend: !args.no_legend,
+                ..Default::default()
+            },
+        );
+        let path = match (&args.output, snapshots.len()) {
+            (Some(p), n) if n > 1 => {
+                let stem = p.to_string_lossy();
+                let stem = stem.strip_suffix(".svg").unwrap_or(&stem);
+                Some(PathBuf::from(format!("{stem}-{i:03}.svg")))
+            }
+            (p, _) => p.clone(),
+        };
+        write_output(path.as_ref(), &picture)?;
+        if let Some(p) = &path {
+            if p.as_os_str() != "-" {
+                eprintln!(
+                    "kss: picture at t = {} written to {}",
+                    times[i],
+                    p.display()
+                );
+            }
         }
     }
     Ok(())
@@ -649,7 +690,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
             .clone()
             .unwrap_or_else(|| PathBuf::from("cell-events.jsonl"));
         let budget = args.budget.unwrap_or(600.0);
-        let line = harness::cell_main(cell, &events, budget)
+        let line = harness::cell_main(cell, &events, budget, args.build_time)
             .map_err(|e| CliError::new(ErrorKind::Usage, e))?;
         println!("{line}");
         return Ok(());
@@ -659,6 +700,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
         config.budget_seconds = b;
     }
     config.workloads = bench_workloads(args)?;
+    config.build_time = args.build_time;
     if !args.methods.is_empty() {
         config.methods = args
             .methods

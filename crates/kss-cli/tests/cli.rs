@@ -1013,3 +1013,62 @@ fn demo_fails_cleanly_or_runs() {
     assert!(!stderr(&o).contains("panicked"));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn render_hierarchical_draws_approximations_and_animation_frames() {
+    let dir = temp_dir();
+    let scenario = dir.join("flypast.json");
+    let o = run_kss(
+        &[
+            "gen",
+            "flypast",
+            "--n",
+            "64",
+            "--ratio",
+            "100",
+            "-o",
+            scenario.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = dir.join("fly.svg");
+    let o = run_kss(
+        &[
+            "render",
+            scenario.to_str().unwrap(),
+            "--time",
+            "0",
+            "--to",
+            "2",
+            "--frames",
+            "3",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(!out.exists(), "frames are numbered files");
+    let mut not_real = Vec::new();
+    for i in 0..3 {
+        let text = std::fs::read_to_string(dir.join(format!("fly-{i:03}.svg"))).unwrap();
+        assert_well_formed(&text);
+        assert_eq!(text.matches("<polygon points=").count(), 2);
+        // both polygons are seen through an outer approximation
+        assert_eq!(text.matches("class=\"approximation\"").count(), 2);
+        let dots = text.matches("class=\"approximation-vertex\"").count();
+        assert!(text.contains(&format!("approximation ({dots} vertices not real)")));
+        not_real.push(dots);
+        assert!(text.contains("<g id=\"structure\">"));
+    }
+    // 64-gons start from much coarser approximations
+    assert!(not_real[0] > 0, "{not_real:?}");
+    // --frames needs --to and --output
+    let o = run_kss(
+        &["render", scenario.to_str().unwrap(), "--frames", "3"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -403,6 +403,11 @@ mod tests {
                 kind: "triangle",
                 time: 2.75,
             }],
+            approximations: vec![vec![
+                ([3.0, 5.0], true),
+                ([5.0, 2.0], false),
+                ([7.0, 5.0], true),
+            ]],
             note: None,
         });
         let s = svg(&snap, &RenderOptions::default());
@@ -413,6 +418,9 @@ mod tests {
         assert_eq!(s.matches("class=\"end-edge\"").count(), 1);
         assert_eq!(s.matches("class=\"omega-ray\"").count(), 1);
         assert_eq!(s.matches("class=\"certificate\"").count(), 1);
+        assert_eq!(s.matches("class=\"approximation\"").count(), 1);
+        assert_eq!(s.matches("class=\"approximation-vertex\"").count(), 1);
+        assert!(s.contains("approximation (1 vertices not real)"));
         assert!(s.contains("1: t = 2.75") && s.contains("id=\"legend\""));
         assert_eq!(s.matches("<g").count(), s.matches("</g>").count());
         let off = svg(

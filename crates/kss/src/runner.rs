@@ -157,8 +157,8 @@ pub fn snapshot_at(
     })
 }
 
-/// A run of the plain kinetic separation structure stopped at one instant
-/// (see [`plain_state_at`]).
+/// A run of the kinetic separation structure (plain or hierarchical)
+/// stopped at one instant (see [`plain_state_at`]).
 #[derive(Debug)]
 pub struct PlainState {
     /// The world after every event up to the instant (later flight-plan
@@ -167,6 +167,9 @@ pub struct PlainState {
     /// The structure after every event at or before the instant, with its
     /// certificates scheduled: valid just after [`PlainState::time`].
     pub kinetic: Kinetic,
+    /// How the structure sees the bodies (their outer approximations for the
+    /// hierarchical structure; empty for plain).
+    pub shapes: Shapes,
     /// The instant, exactly.
     pub time: Rational,
     /// If the run ended before the instant (the first collision in `stop`
@@ -175,23 +178,29 @@ pub struct PlainState {
     pub ended: Option<Time>,
 }
 
-/// Run `scenario` with the plain kinetic separation structure up to the
-/// instant `time` (the exact value of the double; collisions handled as in
-/// [`run`], every event at or before `time` processed except flight-plan
-/// changes at exactly `time`) and return the world and the structure then.
-/// `options.structure` is ignored; `options.until` and `options.audit` apply.
+/// Run `scenario` with the kinetic separation structure up to the instant
+/// `time` (the exact value of the double; collisions handled as in [`run`],
+/// every event at or before `time` processed except flight-plan changes at
+/// exactly `time`) and return the world and the structure then. The
+/// structure is the hierarchical one if `options.structure` says so, the
+/// plain one otherwise; `options.until` and `options.audit` apply.
 pub fn plain_state_at(
     scenario: &Scenario,
     options: &RunOptions,
     time: f64,
 ) -> Result<PlainState, RunError> {
     let t = Time::from_f64(time).ok_or_else(|| RunError::Internal(format!("bad time {time}")))?;
+    let hierarchical = options.structure == StructureKind::Hierarchical;
     let options = RunOptions {
-        structure: StructureKind::Plain,
+        structure: if hierarchical {
+            StructureKind::Hierarchical
+        } else {
+            StructureKind::Plain
+        },
         ..options.clone()
     };
     let mut world = World::new(scenario, options.until)?;
-    let mut engine = PlainEngine::new(&world, options.audit, false)?;
+    let mut engine = PlainEngine::new(&world, options.audit, hierarchical)?;
     let mut last: Option<Time> = None;
     drive(&mut world, &mut engine, &options, Some(&t), &mut |e| {
         last = Some(e.time.clone());
@@ -205,16 +214,19 @@ pub fn plain_state_at(
     Ok(PlainState {
         world,
         kinetic: engine.k,
+        shapes: engine.shapes,
         time,
         ended,
     })
 }
 
-/// Like [`snapshot_at`] with the plain structure, and with the structure
-/// itself in [`crate::render::Snapshot::structure`]: partition triangles,
-/// corridor faces, bridges, and the `highlight` certificates that fail
-/// first (see [`crate::structure::view::overlay`]). If the run ended before
-/// `time` (see [`PlainState::ended`]), the structure carries a note instead.
+/// Like [`snapshot_at`] with the kinetic structure (plain, or hierarchical
+/// if `options.structure` says so), and with the structure itself in
+/// [`crate::render::Snapshot::structure`]: partition triangles, corridor
+/// faces, bridges, the `highlight` certificates that fail first (see
+/// [`crate::structure::view::overlay`]) and, for the hierarchy, the outer
+/// approximations. If the run ended before `time` (see
+/// [`PlainState::ended`]), the structure carries a note instead.
 pub fn structure_snapshot_at(
     scenario: &Scenario,
     options: &RunOptions,
@@ -225,12 +237,16 @@ pub fn structure_snapshot_at(
     let world = &state.world;
     let polygons = snapshot_polygons(world, |b, i| b.vertex_at(i, &state.time).to_f64());
     let structure = match &state.ended {
-        None => crate::structure::view::overlay(
-            &Geo::plain(world),
-            &state.kinetic,
-            &state.time,
-            highlight,
-        ),
+        None => {
+            let geo = Geo {
+                world,
+                shapes: &state.shapes,
+            };
+            let mut o =
+                crate::structure::view::overlay(&geo, &state.kinetic, &state.time, highlight);
+            o.approximations = crate::structure::view::approximations(&geo, &state.time);
+            o
+        }
         Some(end) => crate::render::StructureOverlay {
             note: Some(format!(
                 "structure not drawn: the run ended at t = {} ({})",

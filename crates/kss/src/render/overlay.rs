@@ -55,6 +55,10 @@ pub struct StructureOverlay {
     pub omega_rays: Vec<([f64; 2], [f64; 2])>,
     /// The certificates that fail next, earliest first.
     pub certificates: Vec<CertificateOverlay>,
+    /// The hierarchical structure's outer approximations, one closed
+    /// outline per polygon seen through one, with whether each vertex is a
+    /// real polygon vertex (empty for the plain structure).
+    pub approximations: Vec<Vec<([f64; 2], bool)>>,
     /// When set, the structure is not drawn and this text is shown instead
     /// (for instance: the run ended before the snapshot time).
     pub note: Option<String>,
@@ -78,6 +82,8 @@ impl StructureOverlay {
 }
 
 /// Light fills that alternate between corridors.
+/// Outline colour of the hierarchy's outer approximations.
+const APPROX_GREEN: &str = "#2e8b57";
 const CORRIDOR_FILLS: [&str; 4] = ["#cfe3ff", "#d6f2cf", "#f3d9f5", "#ffe6c7"];
 /// The fill of the finite partition triangles.
 const TRIANGLE_FILL: &str = "#f7d46b";
@@ -143,6 +149,27 @@ pub(crate) fn draw(
     if overlay.note.is_some() {
         out.push_str("</g>\n");
         return;
+    }
+    for ap in &overlay.approximations {
+        let outline: Vec<[f64; 2]> = ap.iter().map(|x| x.0).collect();
+        if outline.len() < 3 || !finite(&outline) {
+            continue;
+        }
+        let _ = writeln!(
+            out,
+            r##"<polygon class="approximation" points="{}" fill="none" stroke="{APPROX_GREEN}" stroke-width="1.1" stroke-linejoin="round"/>"##,
+            pts(&outline)
+        );
+        for (p, real) in ap {
+            if !real {
+                let _ = writeln!(
+                    out,
+                    r##"<circle class="approximation-vertex" cx="{:.2}" cy="{:.2}" r="2" fill="{APPROX_GREEN}"/>"##,
+                    sx(p[0]),
+                    sy(p[1])
+                );
+            }
+        }
     }
     for (ci, c) in overlay.corridors.iter().enumerate() {
         let fill = CORRIDOR_FILLS[ci % CORRIDOR_FILLS.len()];
@@ -275,6 +302,17 @@ pub(crate) fn legend(out: &mut String, overlay: &StructureOverlay, width: f64, m
         stroke(r##"stroke="#8a8a8a" stroke-width="0.8" stroke-dasharray="1.5 2.5""##),
         "bridge to ω".into(),
     ));
+    if !overlay.approximations.is_empty() {
+        let hidden: usize = overlay
+            .approximations
+            .iter()
+            .map(|a| a.iter().filter(|x| !x.1).count())
+            .sum();
+        rows.push((
+            stroke(&format!(r#"stroke="{APPROX_GREEN}" stroke-width="1.1""#)),
+            format!("approximation ({hidden} vertices not real)"),
+        ));
+    }
     rows.push((
         stroke(&format!(r#"stroke="{CERT_RED}" stroke-width="2""#)),
         "certificate failing next".into(),

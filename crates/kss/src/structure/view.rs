@@ -26,6 +26,31 @@ pub fn kind_name(kind: CertKind) -> &'static str {
     }
 }
 
+/// The outer approximations of the bodies seen through one, at the
+/// rational instant `at`: each outline counter-clockwise, with whether each
+/// vertex is a real polygon vertex.
+pub fn approximations(world: &Geo, at: &Rational) -> Vec<Vec<([f64; 2], bool)>> {
+    let mut out = Vec::new();
+    for (i, ap) in world.shapes.per.iter().enumerate() {
+        let b = crate::world::BodyId(i as u32);
+        if ap.is_none() || !world.body(b).alive {
+            continue;
+        }
+        out.push(
+            world
+                .ids(b)
+                .into_iter()
+                .map(|v| {
+                    let a = Att::vertex(b, v);
+                    let p = world.position(a, at).expect("a finite point").to_f64();
+                    (p, world.is_real(a))
+                })
+                .collect(),
+        );
+    }
+    out
+}
+
 /// The structure of `kinetic` drawn at the rational instant `at` (between
 /// its last processed event and its next one, or at the last event time):
 /// every partition triangle and corridor, the end-edges, middle bridges and
