@@ -427,7 +427,8 @@ impl PlainEngine {
     }
 
     /// The structure's audit, and for the hierarchy every approximation's
-    /// exposed set (dyadic gaps with acute turns).
+    /// exposed set (dyadic gaps with acute turns) and that every two
+    /// approximations have disjoint interiors.
     fn audit_at(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
         for (i, ap) in self.shapes.per.iter().enumerate() {
             if let Some(ap) = ap {
@@ -438,6 +439,9 @@ impl PlainEngine {
                         .map_err(|e| format!("approximation of {}: {e}", body.id))?;
                 }
             }
+        }
+        if !self.shapes.per.is_empty() {
+            refine::check_apart(world, &self.shapes, at)?;
         }
         self.k.audit(&self.geo(world), now, at)
     }

@@ -151,6 +151,45 @@ pub fn separate_after(
 /// time `t`; the number of pops. A sweep over bounding boxes finds the
 /// pairs to test.
 pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Result<u64, String> {
+    let mut pops = 0;
+    for pair in box_pairs(world, shapes, t) {
+        pops += separate(
+            world,
+            shapes,
+            pair,
+            &|geo, u, v, w| {
+                let p = |x: Att| geo.position(x, t).expect("a finite point");
+                orient(&p(u), &p(v), &p(w))
+            },
+            false,
+        )?;
+    }
+    Ok(pops)
+}
+
+/// For the audit: every two approximations have disjoint interiors at time
+/// `t` (they may touch where the polygons slide along each other).
+pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), String> {
+    let geo = Geo { world, shapes };
+    for (a, b) in box_pairs(world, shapes, t) {
+        let sign = |u: Att, v: Att, w: Att| {
+            let p = |x: Att| geo.position(x, t).expect("a finite point");
+            orient(&p(u), &p(v), &p(w))
+        };
+        if involved(&geo, a, b, &sign, true).is_some() {
+            return Err(format!(
+                "the approximations of {} and {} overlap at t = {t}",
+                world.body(a).id,
+                world.body(b).id
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The pairs of alive bodies whose approximations' bounding boxes (widened
+/// outwards, so that rounding never hides an overlap) meet at time `t`.
+fn box_pairs(world: &World, shapes: &Shapes, t: &Rational) -> Vec<(BodyId, BodyId)> {
     let boxes: Vec<Option<[f64; 4]>> = {
         let geo = Geo { world, shapes };
         world
@@ -188,7 +227,7 @@ pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Resu
         let (x, y) = (boxes[i].expect("alive"), boxes[j].expect("alive"));
         x[0].total_cmp(&y[0])
     });
-    let mut pops = 0;
+    let mut pairs = Vec::new();
     for (n, &i) in order.iter().enumerate() {
         let bi = boxes[i].expect("alive");
         for &j in &order[n + 1..] {
@@ -199,20 +238,10 @@ pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Resu
             if bj[1] > bi[3] || bi[1] > bj[3] {
                 continue;
             }
-            let pair = (BodyId(i as u32), BodyId(j as u32));
-            pops += separate(
-                world,
-                shapes,
-                pair,
-                &|geo, u, v, w| {
-                    let p = |x: Att| geo.position(x, t).expect("a finite point");
-                    orient(&p(u), &p(v), &p(w))
-                },
-                false,
-            )?;
+            pairs.push((BodyId(i as u32), BodyId(j as u32)));
         }
     }
-    Ok(pops)
+    pairs
 }
 
 #[cfg(test)]
@@ -248,6 +277,7 @@ mod tests {
                         assert!(involved(&geo, a, b, &sign, false).is_none());
                     }
                 }
+                check_apart(&world, &shapes, &Rational::zero()).unwrap();
             }
         }
     }
