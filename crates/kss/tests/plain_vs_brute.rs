@@ -88,6 +88,9 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     let mut rebuilds = 0u64;
     let mut with_events = 0usize;
     let mut failures = Vec::new();
+    // runs that ended with an error, and runs that finished with other
+    // events than the reference's (the worse kind: a silent disagreement)
+    let (mut errors, mut disagreements) = (0usize, 0usize);
     for &family in families {
         for seed in 0..seeds() {
             let s = generate_small(family, seed);
@@ -100,22 +103,31 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
             with_events += usize::from(!want.is_empty());
             match got {
                 Ok(got) if got == want => {}
-                Ok(got) => failures.push(format!(
-                    "{} seed {seed}: {} events, brute {} (first difference at {:?})",
-                    family.name(),
-                    got.len(),
-                    want.len(),
-                    got.iter().zip(&want).position(|(a, b)| a != b)
-                )),
-                Err(e) => failures.push(format!("{} seed {seed}: {e}", family.name())),
+                Ok(got) => {
+                    disagreements += 1;
+                    failures.push(format!(
+                        "{} seed {seed}: {} events, brute {} (first difference at {:?})",
+                        family.name(),
+                        got.len(),
+                        want.len(),
+                        got.iter().zip(&want).position(|(a, b)| a != b)
+                    ))
+                }
+                Err(e) => {
+                    errors += 1;
+                    failures.push(format!("{} seed {seed}: {e}", family.name()))
+                }
             }
         }
     }
     eprintln!(
-        "{}: {total} scenarios, {with_events} with collisions, {} failures, {rebuilds} rebuilds",
+        "{}: {total} scenarios, {with_events} with collisions, {} failures \
+         ({errors} errors, {disagreements} disagreements), {rebuilds} rebuilds",
         structure.name(),
         failures.len()
     );
+    // disagreements first: they matter most
+    failures.sort_by_key(|f| f.contains("internal error"));
     for f in failures.iter().take(30) {
         eprintln!("  {f}");
     }
