@@ -160,6 +160,7 @@ pub fn drive(
             events: finder.internal_events() + collisions + changes,
             certificates_max: finder.certificates_max(),
             pair_tests: finder.pair_tests(),
+            ..Default::default()
         },
     ))
 }

@@ -11,6 +11,11 @@
 //! (tests) the budget is only checked cooperatively by the baselines and no
 //! memory is reported.
 //!
+//! With [`Config::build_time`], each cell of the library's structures first
+//! runs the structure up to an instant just after 0
+//! ([`crate::method::BUILD_UNTIL`]) and reports that wall time as the
+//! construction time ([`CellOutcome::build_seconds`]), then the full run.
+//!
 //! Cells a method cannot finish are shown, never waited for: a method that
 //! ran out of budget at one size of a series is not run at larger sizes,
 //! nor where its wall time at the previous size, scaled by the growth of the
@@ -86,6 +91,12 @@ pub struct CellOutcome {
     pub counters: Counters,
     /// Peak resident memory during the run, KiB (child processes only).
     pub peak_rss_kib: Option<u64>,
+    /// With [`Config::build_time`], for the library's structures: wall time
+    /// of a separate run up to [`crate::method::BUILD_UNTIL`] (world,
+    /// validation, structure and its certificates; no events), made before
+    /// the measured run in the same process.
+    #[serde(default)]
+    pub build_seconds: Option<f64>,
 }
 
 impl CellOutcome {
@@ -97,6 +108,7 @@ impl CellOutcome {
             sim_seconds: 0.0,
             counters: Counters::default(),
             peak_rss_kib: None,
+            build_seconds: None,
         }
     }
 }
@@ -157,6 +169,9 @@ pub struct Config {
     pub methods: Vec<Method>,
     /// Where events files go (`<dir>/<workload>__<method>.jsonl`).
     pub events_dir: PathBuf,
+    /// Also measure the construction time of the library's structures
+    /// ([`CellOutcome::build_seconds`]).
+    pub build_time: bool,
 }
 
 impl Config {
@@ -174,6 +189,7 @@ impl Config {
             },
             methods: Method::defaults(),
             events_dir: out.join("events"),
+            build_time: false,
         }
     }
 }
@@ -184,7 +200,8 @@ pub enum Executor {
     /// In this process; the budget is checked cooperatively.
     InProcess,
     /// In a child process: `exe args.. --cell WORKLOAD/METHOD --cell-events
-    /// FILE --budget SECONDS` must call [`cell_main`] and print its result.
+    /// FILE --budget SECONDS [--build-time]` must call [`cell_main`] and
+    /// print its result.
     Subprocess {
         /// The executable.
         exe: PathBuf,
@@ -255,15 +272,33 @@ pub fn reset_peak_rss() -> bool {
 }
 
 /// Runs one cell in this process; returns the outcome and the events.
+/// With `build_time`, the library's structures are first run up to
+/// [`crate::method::BUILD_UNTIL`] to time their construction.
 pub fn run_cell(
     workload: &Workload,
     method: Method,
     budget_seconds: f64,
     measure_memory: bool,
+    build_time: bool,
 ) -> (CellOutcome, Vec<Event>) {
     let t0 = Instant::now();
     let scenario = workload.scenario();
     let setup_seconds = t0.elapsed().as_secs_f64();
+    let mut build_seconds = None;
+    if build_time {
+        match method.build_seconds(&scenario) {
+            Some(Ok((seconds, _))) => build_seconds = Some(seconds),
+            Some(Err(f)) => {
+                let mut o = CellOutcome::not_run(match f {
+                    Failure::NotImplemented => Status::NotImplemented,
+                    f => Status::Error(format!("construction: {f}")),
+                });
+                o.setup_seconds = setup_seconds;
+                return (o, Vec::new());
+            }
+            None => {}
+        }
+    }
     let memory = measure_memory && reset_peak_rss();
     let start = Instant::now();
     let result = method.run_scaled(
@@ -310,6 +345,7 @@ pub fn run_cell(
             setup_seconds,
             counters,
             peak_rss_kib,
+            build_seconds,
         },
         events,
     )
@@ -317,14 +353,20 @@ pub fn run_cell(
 
 /// The child side of [`Executor::Subprocess`]: runs `cell`
 /// (`WORKLOAD/METHOD`), writes the events to `events_file` and returns the
-/// line of JSON to print on standard output.
-pub fn cell_main(cell: &str, events_file: &Path, budget_seconds: f64) -> Result<String, String> {
+/// line of JSON to print on standard output. `build_time`: see
+/// [`Config::build_time`].
+pub fn cell_main(
+    cell: &str,
+    events_file: &Path,
+    budget_seconds: f64,
+    build_time: bool,
+) -> Result<String, String> {
     let (w, m) = cell
         .split_once('/')
         .ok_or_else(|| format!("--cell {cell:?}: expected WORKLOAD/METHOD"))?;
     let workload = Workload::parse(w)?;
     let method = Method::parse(m)?;
-    let (outcome, events) = run_cell(&workload, method, budget_seconds, true);
+    let (outcome, events) = run_cell(&workload, method, budget_seconds, true, build_time);
     if outcome.status == Status::Ok {
         write_events(events_file, &events)
             .map_err(|e| format!("cannot write {}: {e}", events_file.display()))?;
@@ -340,6 +382,7 @@ fn run_child(
     method: Method,
     budget_seconds: f64,
     events_file: &Path,
+    build_time: bool,
 ) -> CellOutcome {
     let mut cmd = Command::new(exe);
     cmd.args(args)
@@ -352,6 +395,9 @@ fn run_child(
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
+    if build_time {
+        cmd.arg("--build-time");
+    }
     let mut child = match cmd.spawn() {
         Ok(c) => c,
         Err(e) => return CellOutcome::not_run(Status::Error(format!("cannot start: {e}"))),
@@ -461,15 +507,27 @@ pub fn run(
                 let _ = fs::remove_file(&file);
                 match executor {
                     Executor::InProcess => {
-                        let (o, ev) = run_cell(workload, method, config.budget_seconds, false);
+                        let (o, ev) = run_cell(
+                            workload,
+                            method,
+                            config.budget_seconds,
+                            false,
+                            config.build_time,
+                        );
                         if o.status == Status::Ok {
                             write_events(&file, &ev)?;
                         }
                         o
                     }
-                    Executor::Subprocess { exe, args } => {
-                        run_child(exe, args, workload, method, config.budget_seconds, &file)
-                    }
+                    Executor::Subprocess { exe, args } => run_child(
+                        exe,
+                        args,
+                        workload,
+                        method,
+                        config.budget_seconds,
+                        &file,
+                        config.build_time,
+                    ),
                 }
             };
             match outcome.status {

@@ -64,6 +64,25 @@ pub struct Counters {
     pub certificates_max: u64,
     /// Narrow-phase queries (pair time-of-impact computations).
     pub pair_tests: u64,
+    /// The library's structures: `events` by kind (`kss run --stats`'s
+    /// `events_by_kind`: certificate failures by kind, `pop` and
+    /// `initial_pop` for the hierarchy's refinements, `collision`,
+    /// `flight_plan_change`); empty for the other methods.
+    #[serde(default)]
+    pub events_by_kind: std::collections::BTreeMap<String, u64>,
+}
+
+impl Counters {
+    /// Events of one kind (0 if the method does not report it).
+    pub fn kind(&self, kind: &str) -> u64 {
+        self.events_by_kind.get(kind).copied().unwrap_or(0)
+    }
+
+    /// The hierarchy's pops: approximation vertices refined while running
+    /// (`pop`) and before the start (`initial_pop`); 0 for other methods.
+    pub fn pops(&self) -> u64 {
+        self.kind("pop") + self.kind("initial_pop")
+    }
 }
 
 /// Why a method could not finish a scenario.

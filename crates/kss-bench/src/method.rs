@@ -160,6 +160,45 @@ fn run_library(
             events: stats.events_processed,
             certificates_max: stats.certificates_max,
             pair_tests: pair_tests.unwrap_or(0),
+            events_by_kind: stats.events_by_kind,
         },
     ))
+}
+
+/// The construction-only run of [`Method::build_seconds`]: `kss::run` up
+/// to the smallest positive normal double (the scenario's contract wants
+/// `until > 0`), so that nothing but the world (with its validation) and
+/// the structure with its certificates is built.
+pub const BUILD_UNTIL: f64 = f64::MIN_POSITIVE;
+
+impl Method {
+    /// For the library's structures: the wall time of `kss::run` on
+    /// `scenario` stopped at [`BUILD_UNTIL`] (building the world, validating
+    /// it, building the structure and scheduling its certificates), and the
+    /// events processed by then (normally none). `None` for the other
+    /// methods.
+    pub fn build_seconds(&self, scenario: &Scenario) -> Option<Result<(f64, u64), Failure>> {
+        let structure = match self {
+            Method::Brute => StructureKind::Brute,
+            Method::Plain => StructureKind::Plain,
+            Method::Hierarchical => StructureKind::Hierarchical,
+            _ => return None,
+        };
+        let options = RunOptions {
+            structure,
+            until: Some(BUILD_UNTIL),
+            ..Default::default()
+        };
+        let start = std::time::Instant::now();
+        let result = kss::run(scenario, &options, &mut |_| {});
+        let seconds = start.elapsed().as_secs_f64();
+        Some(
+            result
+                .map(|stats| (seconds, stats.events_processed))
+                .map_err(|e| match e {
+                    RunError::NotImplemented(_) => Failure::NotImplemented,
+                    e => Failure::Error(e.to_string()),
+                }),
+        )
+    }
 }

@@ -419,6 +419,7 @@ pub fn run_toi(scenario: &Scenario, deadline: Deadline) -> Result<(Vec<Event>, C
             events: collisions + changes,
             certificates_max: max_queued as u64,
             pair_tests: s.casts,
+            ..Default::default()
         },
     ))
 }
@@ -555,6 +556,7 @@ pub fn run_step(
             events: steps + substeps,
             certificates_max: 0,
             pair_tests: s.casts,
+            ..Default::default()
         },
     ))
 }

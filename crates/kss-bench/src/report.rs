@@ -317,6 +317,7 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
 
     // 3. events of the exact methods
     events_section(&mut s, run, &workloads);
+    flypast_section(&mut s, run, &workloads);
 
     // 4. every cell
     let _ = writeln!(s, "\n## Every cell\n");
@@ -530,13 +531,328 @@ fn events_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<W
     }
 }
 
+/// Whether `method` is one of the library's structures (through `kss::run`).
+fn is_library(method: &str) -> bool {
+    matches!(
+        Method::parse(method),
+        Ok(Method::Brute | Method::Plain | Method::Hierarchical)
+    )
+}
+
+/// `mean (min–max)` of integers, or the value if all are equal.
+fn mean_range(v: &[u64]) -> String {
+    let (lo, hi) = (v.iter().min(), v.iter().max());
+    match (lo, hi) {
+        (Some(lo), Some(hi)) if lo == hi => lo.to_string(),
+        (Some(lo), Some(hi)) => {
+            let mean = v.iter().sum::<u64>() as f64 / v.len() as f64;
+            format!("{} ({lo}–{hi})", format_sig(mean))
+        }
+        _ => String::new(),
+    }
+}
+
+/// The flypast cells of the library's structures: events, the hierarchy's
+/// pops, collisions, certificates, wall and construction time, time per
+/// event, the other event kinds; and with several seeds, their summary.
+fn flypast_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<Workload>)]) {
+    let mut rows: Vec<(&String, usize, f64, u64)> = workloads
+        .iter()
+        .filter_map(|(name, w)| match w {
+            Some(Workload::Flypast { n, ratio, seed }) => Some((name, *n, *ratio, *seed)),
+            _ => None,
+        })
+        .collect();
+    let methods: Vec<&String> = run.methods.iter().filter(|m| is_library(m)).collect();
+    if rows.is_empty() || methods.is_empty() {
+        return;
+    }
+    rows.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.1.cmp(&b.1)).then(a.3.cmp(&b.3)));
+    let _ = writeln!(s, "\n## Flypast: events, pops and construction\n");
+    let _ = writeln!(
+        s,
+        "The library's structures on the flypast (two regular n-gons of diameter \
+         D = 1 passing at gap s = D/R; no collision). `events`: `events_processed` of \
+         `kss run --stats` (every certificate failure, pop, collision and flight-plan \
+         change); `pops`: the hierarchy's refined approximation vertices (`pop` while \
+         running plus `initial_pop` before the start; part of `events`); `certs`: \
+         `certificates_max`; `wall`: the whole run (world with validation, \
+         construction, events); `build`: with `--build-time`, a separate run of the \
+         same structure up to the smallest positive double (world, validation, \
+         structure and certificates, no events); `ns/ev`: wall / events; `ns/ev \
+         after build`: (wall − build) / events, `—` where the run was not slower \
+         than the construction alone (timing noise: the construction-only run goes \
+         first and warms the allocator); `other kinds`: the rest of \
+         `events_by_kind`.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| n | D/s | seed | method | status | events | pops | collisions | certs | wall | build | ns/ev | ns/ev after build | other kinds |"
+    );
+    let _ = writeln!(
+        s,
+        "| ---: | ---: | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |"
+    );
+    for &(w, n, ratio, seed) in &rows {
+        for me in &methods {
+            let Some(c) = run.cell(w, me) else { continue };
+            let o = &c.outcome;
+            let build = o.build_seconds.map_or(String::new(), human_seconds);
+            if o.status != Status::Ok {
+                let status = if o.status == Status::Budget {
+                    format!("over budget (> {})", human_seconds(run.budget_seconds))
+                } else {
+                    o.status.text()
+                };
+                let _ = writeln!(
+                    s,
+                    "| {n} | {ratio:e} | {seed} | {} | {status} | | | | | | {build} | | | |",
+                    method_label(me)
+                );
+                continue;
+            }
+            let k = &o.counters;
+            let after = match o.build_seconds {
+                Some(b) if k.events > 0 && o.wall_seconds > b => {
+                    format!("{:.0}", (o.wall_seconds - b) * 1e9 / k.events as f64)
+                }
+                Some(_) if k.events > 0 => "—".into(),
+                _ => String::new(),
+            };
+            let others: Vec<String> = k
+                .events_by_kind
+                .iter()
+                .filter(|(kind, v)| {
+                    **v > 0
+                        && !matches!(
+                            kind.as_str(),
+                            "pop" | "initial_pop" | "collision" | "flight_plan_change"
+                        )
+                })
+                .map(|(kind, v)| format!("{kind} {v}"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "| {n} | {ratio:e} | {seed} | {} | ok | {} | {} | {} | {} | {} | {build} | {} | {after} | {} |",
+                method_label(me),
+                k.events,
+                k.pops(),
+                k.collisions,
+                k.certificates_max,
+                human_seconds(o.wall_seconds),
+                ns_per_event(o).map_or(String::new(), |x| format!("{x:.0}")),
+                others.join(", "),
+            );
+        }
+    }
+    flypast_fits(s, run, &rows, &methods);
+    // several seeds at one (n, D/s): their summary
+    let mut keys: Vec<(usize, f64)> = rows.iter().map(|r| (r.1, r.2)).collect();
+    keys.dedup();
+    let seeded = keys
+        .iter()
+        .any(|k| rows.iter().filter(|r| (r.1, r.2) == *k).count() > 1);
+    if !seeded {
+        return;
+    }
+    let _ = writeln!(s, "\n### Flypast over seeds\n");
+    let _ = writeln!(
+        s,
+        "Per n and D/s, the completed runs over the seeds: mean (min–max) of events \
+         and pops, mean wall and construction time.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| n | D/s | method | seeds completed | events | pops | certs | wall | build |"
+    );
+    let _ = writeln!(
+        s,
+        "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |"
+    );
+    for &(n, ratio) in &keys {
+        let names: Vec<&String> = rows
+            .iter()
+            .filter(|r| (r.1, r.2) == (n, ratio))
+            .map(|r| r.0)
+            .collect();
+        for me in &methods {
+            let done: Vec<&CellOutcome> = names
+                .iter()
+                .filter_map(|w| run.cell(w, me))
+                .map(|c| &c.outcome)
+                .filter(|o| o.status == Status::Ok)
+                .collect();
+            let mean = |f: &dyn Fn(&CellOutcome) -> Option<f64>| {
+                let v: Vec<f64> = done.iter().filter_map(|o| f(o)).collect();
+                if v.is_empty() {
+                    String::new()
+                } else {
+                    human_seconds(v.iter().sum::<f64>() / v.len() as f64)
+                }
+            };
+            let ints = |f: &dyn Fn(&CellOutcome) -> u64| {
+                mean_range(&done.iter().map(|o| f(o)).collect::<Vec<_>>())
+            };
+            let _ = writeln!(
+                s,
+                "| {n} | {ratio:e} | {} | {} of {} | {} | {} | {} | {} | {} |",
+                method_label(me),
+                done.len(),
+                names.len(),
+                ints(&|o| o.counters.events),
+                ints(&|o| o.counters.pops()),
+                ints(&|o| o.counters.certificates_max),
+                mean(&|o| Some(o.wall_seconds)),
+                mean(&|o| o.build_seconds),
+            );
+        }
+    }
+}
+
+/// Least-squares line `y = a + b·x` through `points`: `(a, b, R²)`.
+pub fn fit_line(points: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
+    let m = points.len() as f64;
+    if points.len() < 2 {
+        return None;
+    }
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / m;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / m;
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let syy: f64 = points.iter().map(|p| (p.1 - my) * (p.1 - my)).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let b = sxy / sxx;
+    let r2 = if syy > 0.0 {
+        sxy * sxy / (sxx * syy)
+    } else {
+        1.0
+    };
+    Some((my - b * mx, b, r2))
+}
+
+/// Per n with at least three ratios, per method: the line through events
+/// (and pops) against log2(D/s), every completed seed a point.
+fn flypast_fits(
+    s: &mut String,
+    run: &BenchRun,
+    rows: &[(&String, usize, f64, u64)],
+    methods: &[&String],
+) {
+    let mut ns: Vec<usize> = rows.iter().map(|r| r.1).collect();
+    ns.sort_unstable();
+    ns.dedup();
+    let mut lines = Vec::new();
+    for n in ns {
+        let mut ratios: Vec<f64> = rows.iter().filter(|r| r.1 == n).map(|r| r.2).collect();
+        ratios.sort_by(f64::total_cmp);
+        ratios.dedup();
+        if ratios.len() < 3 {
+            continue;
+        }
+        for me in methods {
+            let done: Vec<(f64, &CellOutcome)> = rows
+                .iter()
+                .filter(|r| r.1 == n)
+                .filter_map(|r| run.cell(r.0, me).map(|c| (r.2, &c.outcome)))
+                .filter(|(_, o)| o.status == Status::Ok)
+                .collect();
+            let pts = |f: &dyn Fn(&CellOutcome) -> u64| -> Vec<(f64, f64)> {
+                done.iter().map(|(r, o)| (r.log2(), f(o) as f64)).collect()
+            };
+            let ev = fit_line(&pts(&|o| o.counters.events));
+            let pop_points = pts(&|o| o.counters.pops());
+            let po = if pop_points.iter().any(|p| p.1 > 0.0) {
+                fit_line(&pop_points)
+            } else {
+                None
+            };
+            if let Some((a, b, r2)) = ev {
+                let pops = po.map_or(String::new(), |(a, b, r2)| {
+                    format!("{} (R² {r2:.3})", format_affine(a, b))
+                });
+                lines.push(format!(
+                    "| {n} | {} | {} | {} | {} (R² {r2:.3}) | {pops} |",
+                    method_label(me),
+                    ratios.len(),
+                    done.len(),
+                    format_affine(a, b),
+                ));
+            }
+        }
+    }
+    if lines.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "\n### Flypast: events against log2(D/s)\n");
+    let _ = writeln!(
+        s,
+        "Least-squares lines through every completed run (each seed a point) at one \
+         n, over the D/s of the run.\n"
+    );
+    let _ = writeln!(s, "| n | method | D/s values | runs | events | pops |");
+    let _ = writeln!(s, "| ---: | --- | ---: | ---: | --- | --- |");
+    for l in lines {
+        let _ = writeln!(s, "{l}");
+    }
+}
+
+/// `a + b·log2(D/s)` with three significant digits.
+fn format_affine(a: f64, b: f64) -> String {
+    let a = if a < 0.0 {
+        format!("−{}", format_sig(-a))
+    } else {
+        format_sig(a)
+    };
+    let (sign, b) = if b < 0.0 { ("−", -b) } else { ("+", b) };
+    format!("{a} {sign} {}·log2(D/s)", format_sig(b))
+}
+
 /// One line of a plot.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Series {
     /// Legend text.
     pub label: String,
-    /// `(x, y)` points, both positive.
+    /// `(x, y)` points, both positive (joined by the line; with several
+    /// runs at one `x`, their mean).
     pub points: Vec<(f64, f64)>,
+    /// Individual runs (e.g. one per seed) drawn as small open circles in
+    /// the line's colour; empty if every `x` has one run.
+    pub scatter: Vec<(f64, f64)>,
+    /// Draw the line dashed (a secondary quantity of the same method).
+    pub dashed: bool,
+    /// Index of the colour (default: the series' position).
+    pub colour: Option<usize>,
+}
+
+impl Series {
+    /// A series from `(x, y)` samples: the line through the mean `y` at each
+    /// `x`, and the samples themselves as [`Series::scatter`] when some `x`
+    /// has more than one.
+    pub fn from_samples(label: String, samples: &[(f64, f64)]) -> Series {
+        let mut xs: Vec<f64> = samples.iter().map(|p| p.0).collect();
+        xs.sort_by(f64::total_cmp);
+        xs.dedup();
+        let points = xs
+            .iter()
+            .map(|&x| {
+                let ys: Vec<f64> = samples.iter().filter(|p| p.0 == x).map(|p| p.1).collect();
+                (x, ys.iter().sum::<f64>() / ys.len() as f64)
+            })
+            .collect();
+        Series {
+            label,
+            points,
+            scatter: if xs.len() < samples.len() {
+                samples.to_vec()
+            } else {
+                Vec::new()
+            },
+            dashed: false,
+            colour: None,
+        }
+    }
 }
 
 fn xml(s: &str) -> String {
@@ -554,7 +870,10 @@ const COLOURS: [&str; 10] = [
 pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> String {
     let (w, h) = (760.0, 460.0);
     let (left, right, top, bottom) = (80.0, 210.0, 40.0, 55.0);
-    let pts = series.iter().flat_map(|s| s.points.iter()).copied();
+    let pts = series
+        .iter()
+        .flat_map(|s| s.points.iter().chain(&s.scatter))
+        .copied();
     let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
     for (x, y) in pts.filter(|p| p.0 > 0.0 && p.1 > 0.0) {
         x0 = x0.min(x);
@@ -633,7 +952,7 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[Series])
         xml(y_label)
     );
     for (i, se) in series.iter().enumerate() {
-        let c = COLOURS[i % COLOURS.len()];
+        let c = COLOURS[se.colour.unwrap_or(i) % COLOURS.len()];
         let mut p: Vec<(f64, f64)> = se
             .points
             .iter()
@@ -641,6 +960,11 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[Series])
             .filter(|p| p.0 > 0.0 && p.1 > 0.0)
             .collect();
         p.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let dash = if se.dashed {
+            r#" stroke-dasharray="6 4""#
+        } else {
+            ""
+        };
         if p.len() > 1 {
             let path: Vec<String> = p
                 .iter()
@@ -648,8 +972,16 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[Series])
                 .collect();
             let _ = writeln!(
                 s,
-                r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2"/>"#,
+                r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2"{dash}/>"#,
                 path.join(" ")
+            );
+        }
+        for &(x, y) in se.scatter.iter().filter(|p| p.0 > 0.0 && p.1 > 0.0) {
+            let _ = writeln!(
+                s,
+                r#"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="none" stroke="{c}"/>"#,
+                px(x),
+                py(y)
             );
         }
         for &(x, y) in &p {
@@ -664,7 +996,7 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[Series])
         let lx = left + pw + 14.0;
         let _ = writeln!(
             s,
-            r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{c}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#,
+            r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{c}" stroke-width="2"{dash}/><text x="{}" y="{}">{}</text>"#,
             lx + 22.0,
             lx + 28.0,
             ly + 4.0,
@@ -690,25 +1022,50 @@ fn value_series(
 ) -> Vec<Series> {
     run.methods
         .iter()
-        .filter_map(|me| {
-            let points: Vec<(f64, f64)> = run
-                .workloads
-                .iter()
-                .filter_map(|w| {
-                    let x = pick(&Workload::parse(w).ok()?)?;
-                    let c = run.cell(w, me)?;
-                    if c.outcome.status != Status::Ok {
-                        return None;
-                    }
-                    value(&c.outcome).filter(|y| *y > 0.0).map(|y| (x, y))
-                })
-                .collect();
-            (!points.is_empty()).then(|| Series {
-                label: method_label(me),
-                points,
-            })
-        })
+        .filter_map(|me| method_series(run, me, pick, value))
         .collect()
+}
+
+/// The series of [`value_series`] for one method, if it has a point.
+fn method_series(
+    run: &BenchRun,
+    method: &str,
+    pick: &dyn Fn(&Workload) -> Option<f64>,
+    value: &dyn Fn(&CellOutcome) -> Option<f64>,
+) -> Option<Series> {
+    let points: Vec<(f64, f64)> = run
+        .workloads
+        .iter()
+        .filter_map(|w| {
+            let x = pick(&Workload::parse(w).ok()?)?;
+            let c = run.cell(w, method)?;
+            if c.outcome.status != Status::Ok {
+                return None;
+            }
+            value(&c.outcome).filter(|y| *y > 0.0).map(|y| (x, y))
+        })
+        .collect();
+    (!points.is_empty()).then(|| Series::from_samples(method_label(method), &points))
+}
+
+/// Events against the workloads selected by `pick`, one series per method,
+/// and dashed in the same colour the pops of the methods that have some.
+fn events_and_pops(run: &BenchRun, pick: &dyn Fn(&Workload) -> Option<f64>) -> Vec<Series> {
+    let mut series = value_series(run, pick, &|o| Some(o.counters.events as f64));
+    for s in &mut series {
+        s.label = format!("{} events", s.label);
+    }
+    for me in &run.methods {
+        let pops = |o: &CellOutcome| Some(o.counters.pops() as f64);
+        if let Some(mut p) = method_series(run, me, pick, &pops) {
+            let label = format!("{} events", p.label);
+            p.colour = series.iter().position(|s| s.label == label);
+            p.label = format!("{} pops", p.label);
+            p.dashed = true;
+            series.push(p);
+        }
+    }
+    series
 }
 
 /// The plots of a run: `(file name, SVG)`.
@@ -719,18 +1076,31 @@ pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
         .filter_map(|w| Workload::parse(w).ok())
         .collect();
     let mut out = Vec::new();
-    let ratios: Vec<f64> = parsed
+    let flypasts: Vec<(usize, f64)> = parsed
         .iter()
         .filter_map(|w| match w {
-            Workload::Flypast { ratio, .. } => Some(*ratio),
+            Workload::Flypast { n, ratio, .. } => Some((*n, *ratio)),
             _ => None,
         })
         .collect();
-    if let Some(r) = ratios.iter().copied().reduce(f64::max) {
-        let series = time_series(run, &|w| match w {
-            Workload::Flypast { n, ratio } if *ratio == r => Some(*n as f64),
+    // the sweep over n: at the D/s with the most sizes (ties: the largest)
+    let count = |f: &dyn Fn(&(usize, f64)) -> bool, key: &dyn Fn(&(usize, f64)) -> u64| {
+        let mut v: Vec<u64> = flypasts.iter().filter(|p| f(p)).map(key).collect();
+        v.sort_unstable();
+        v.dedup();
+        v.len()
+    };
+    let r_sweep = flypasts.iter().map(|p| p.1).max_by(|&a, &b| {
+        let ca = count(&|p| p.1 == a, &|p| p.0 as u64);
+        let cb = count(&|p| p.1 == b, &|p| p.0 as u64);
+        ca.cmp(&cb).then(a.total_cmp(&b))
+    });
+    if let Some(r) = r_sweep {
+        let pick = |w: &Workload| match w {
+            Workload::Flypast { n, ratio, .. } if *ratio == r => Some(*n as f64),
             _ => None,
-        });
+        };
+        let series = time_series(run, &pick);
         out.push((
             "flypast-time-vs-n.svg".into(),
             loglog_plot(
@@ -740,14 +1110,7 @@ pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
                 &series,
             ),
         ));
-        let series = value_series(
-            run,
-            &|w| match w {
-                Workload::Flypast { n, ratio } if *ratio == r => Some(*n as f64),
-                _ => None,
-            },
-            &|o| Some(o.counters.events as f64),
-        );
+        let series = events_and_pops(run, &pick);
         if !series.is_empty() {
             out.push((
                 "flypast-events-vs-n.svg".into(),
@@ -759,29 +1122,78 @@ pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
                 ),
             ));
         }
-        let ns: Vec<usize> = parsed
-            .iter()
-            .filter_map(|w| match w {
-                Workload::Flypast { n, .. } => Some(*n),
-                _ => None,
-            })
-            .collect();
-        let dist = |n: usize| (n as f64 / 1024.0).log2().abs();
-        if let Some(n0) = ns
-            .iter()
-            .copied()
-            .min_by(|a, b| dist(*a).total_cmp(&dist(*b)))
-        {
-            let series = time_series(run, &|w| match w {
-                Workload::Flypast { n, ratio } if *n == n0 => Some(*ratio),
-                _ => None,
-            });
+        let series = value_series(run, &pick, &|o| o.build_seconds);
+        if !series.is_empty() {
             out.push((
-                "flypast-time-vs-gap.svg".into(),
+                "flypast-build-vs-n.svg".into(),
                 loglog_plot(
-                    &format!("flypast, n = {n0}: wall time against D/s"),
+                    &format!("flypast, D/s = {r:e}: construction time against n"),
+                    "vertices per polygon n",
+                    "construction (s)",
+                    &series,
+                ),
+            ));
+        }
+    }
+    // the sweep over D/s: at the n with the most ratios (ties: nearest 1024)
+    let dist = |n: usize| (n as f64 / 1024.0).log2().abs();
+    let n_sweep = flypasts.iter().map(|p| p.0).min_by(|&a, &b| {
+        let ca = count(&|p| p.0 == a, &|p| p.1.to_bits());
+        let cb = count(&|p| p.0 == b, &|p| p.1.to_bits());
+        cb.cmp(&ca).then(dist(a).total_cmp(&dist(b)))
+    });
+    if let Some(n0) = n_sweep {
+        let pick = |w: &Workload| match w {
+            Workload::Flypast { n, ratio, .. } if *n == n0 => Some(*ratio),
+            _ => None,
+        };
+        let series = time_series(run, &pick);
+        out.push((
+            "flypast-time-vs-gap.svg".into(),
+            loglog_plot(
+                &format!("flypast, n = {n0}: wall time against D/s"),
+                "D/s (diameter over gap)",
+                "wall time (s)",
+                &series,
+            ),
+        ));
+        let mut ns: Vec<usize> = flypasts.iter().map(|p| p.0).collect();
+        ns.sort_unstable();
+        ns.dedup();
+        ns.retain(|&n| count(&|p| p.0 == n, &|p| p.1.to_bits()) >= 3);
+        if ns.len() >= 2 {
+            let mut series = Vec::new();
+            for me in &run.methods {
+                for &n0 in &ns {
+                    let pick = |w: &Workload| match w {
+                        Workload::Flypast { n, ratio, .. } if *n == n0 => Some(*ratio),
+                        _ => None,
+                    };
+                    let events = |o: &CellOutcome| Some(o.counters.events as f64);
+                    if let Some(mut se) = method_series(run, me, &pick, &events) {
+                        se.label = format!("{} n = {n0}", se.label);
+                        series.push(se);
+                    }
+                }
+            }
+            out.push((
+                "flypast-events-vs-gap-by-n.svg".into(),
+                loglog_plot(
+                    "flypast: events processed against D/s, per n",
                     "D/s (diameter over gap)",
-                    "wall time (s)",
+                    "events",
+                    &series,
+                ),
+            ));
+        }
+        let series = events_and_pops(run, &pick);
+        if !series.is_empty() {
+            out.push((
+                "flypast-events-vs-gap.svg".into(),
+                loglog_plot(
+                    &format!("flypast, n = {n0}: events processed against D/s"),
+                    "D/s (diameter over gap)",
+                    "events",
                     &series,
                 ),
             ));

@@ -3,7 +3,9 @@
 //! can rebuild exactly the same scenario from the name.
 //!
 //! - `flypast-n<N>-r<R>`: two regular N-gons of diameter D = 1, B passing A at
-//!   the gap s = D/R (a near miss: no collision), `stop` mode;
+//!   the gap s = D/R (a near miss: no collision), `stop` mode; with a suffix
+//!   `-s<SEED>` the generator's seed (the polygons' rotations and the
+//!   direction of the pass) is SEED instead of [`SEED`];
 //! - `gas-k<K>-n<N>-c<C>`: K random convex N-gons with random velocities in a
 //!   box of four fixed walls, `bounce` mode, `until` chosen so that about C
 //!   collisions happen (measured rate: 0.7 collisions per polygon and unit
@@ -65,6 +67,8 @@ pub enum Workload {
         n: usize,
         /// D/s.
         ratio: f64,
+        /// The generator's seed ([`SEED`] unless another is asked for).
+        seed: u64,
     },
     /// A bouncing gas in a box.
     Gas {
@@ -111,11 +115,22 @@ fn ratio_name(r: f64) -> String {
     }
 }
 
+/// The name suffix of a flypast's seed: none for the default [`SEED`].
+fn seed_suffix(seed: u64) -> String {
+    if seed == SEED {
+        String::new()
+    } else {
+        format!("-s{seed}")
+    }
+}
+
 impl Workload {
     /// The name (parsed back by [`Workload::parse`]).
     pub fn name(&self) -> String {
         match self {
-            Workload::Flypast { n, ratio } => format!("flypast-n{n}-r{}", ratio_name(*ratio)),
+            Workload::Flypast { n, ratio, seed } => {
+                format!("flypast-n{n}-r{}{}", ratio_name(*ratio), seed_suffix(*seed))
+            }
             Workload::Gas { k, n, collisions } => format!("gas-k{k}-n{n}-c{collisions}"),
             Workload::Cluster { k } => format!("cluster-k{k}"),
             Workload::Swarm { k } => format!("swarm-k{k}"),
@@ -129,7 +144,7 @@ impl Workload {
     pub fn parse(s: &str) -> Result<Workload, String> {
         let bad = || {
             format!(
-                "bad workload name {s:?}: expected flypast-n<N>-r<D/s>, gas-k<K>-n<N>-c<C>, cluster-k<K>, swarm-k<K>, grazing-p<P>, parallel-p<P> or far-k<K>"
+                "bad workload name {s:?}: expected flypast-n<N>-r<D/s>[-s<SEED>], gas-k<K>-n<N>-c<C>, cluster-k<K>, swarm-k<K>, grazing-p<P>, parallel-p<P> or far-k<K>"
             )
         };
         let parts: Vec<&str> = s.split('-').collect();
@@ -148,6 +163,15 @@ impl Workload {
             ["flypast", n, r] => Workload::Flypast {
                 n: int(n, "n")?,
                 ratio: num(r, "r")?,
+                seed: SEED,
+            },
+            ["flypast", n, r, seed] => Workload::Flypast {
+                n: int(n, "n")?,
+                ratio: num(r, "r")?,
+                seed: seed
+                    .strip_prefix('s')
+                    .and_then(|x| x.parse::<u64>().ok())
+                    .ok_or_else(bad)?,
             },
             ["gas", k, n, c] => Workload::Gas {
                 k: int(k, "k")?,
@@ -171,7 +195,7 @@ impl Workload {
 
     fn check(&self) -> Result<(), String> {
         let ok = match self {
-            Workload::Flypast { n, ratio } => (3..=1 << 24).contains(n) && *ratio >= 2.0,
+            Workload::Flypast { n, ratio, .. } => (3..=1 << 24).contains(n) && *ratio >= 2.0,
             Workload::Gas { k, n, collisions } => {
                 (1..=1 << 20).contains(k) && (3..=1 << 16).contains(n) && *collisions > 0
             }
@@ -207,9 +231,10 @@ impl Workload {
     /// at larger sizes of the same series.
     pub fn series(&self) -> (String, f64) {
         match self {
-            Workload::Flypast { n, ratio } => {
-                (format!("flypast D/s={}", ratio_name(*ratio)), *n as f64)
-            }
+            Workload::Flypast { n, ratio, seed } => (
+                format!("flypast D/s={}{}", ratio_name(*ratio), seed_suffix(*seed)),
+                *n as f64,
+            ),
             Workload::Gas { k, n, collisions } => (format!("gas n={n} c={collisions}"), *k as f64),
             Workload::Cluster { k } => ("cluster".into(), *k as f64),
             Workload::Swarm { k } => ("swarm".into(), *k as f64),
@@ -275,14 +300,14 @@ impl Workload {
     /// Builds the scenario.
     pub fn scenario(&self) -> Scenario {
         match *self {
-            Workload::Flypast { n, ratio } => gen::flypast(&FlypastParams {
+            Workload::Flypast { n, ratio, seed } => gen::flypast(&FlypastParams {
                 n,
                 diameter: 1.0,
                 gap: 1.0 / ratio,
                 a_moving: false,
                 speed: 1.0,
                 mode: CollisionMode::Stop,
-                seed: SEED,
+                seed,
             }),
             Workload::Gas { k, n, collisions } => gen::gas(&GasParams {
                 k,
@@ -351,7 +376,11 @@ impl Workload {
         let mut w = Vec::new();
         for ratio in [10.0, 1e6] {
             for n in [16, 1024, 65536] {
-                w.push(Workload::Flypast { n, ratio });
+                w.push(Workload::Flypast {
+                    n,
+                    ratio,
+                    seed: SEED,
+                });
             }
         }
         for k in [30, 100] {
@@ -376,7 +405,11 @@ impl Workload {
         let mut w = Vec::new();
         for ratio in [10.0, 1e2, 1e3, 1e4, 1e5, 1e6] {
             for e in (4..=20).step_by(2) {
-                w.push(Workload::Flypast { n: 1 << e, ratio });
+                w.push(Workload::Flypast {
+                    n: 1 << e,
+                    ratio,
+                    seed: SEED,
+                });
             }
         }
         for n in [8, 64, 1024] {

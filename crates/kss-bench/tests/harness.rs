@@ -11,7 +11,16 @@ fn tiny_run_writes_a_report() {
     let _ = std::fs::remove_dir_all(&out);
     let mut config = Config::new(true, &out);
     config.workloads = vec![
-        Workload::Flypast { n: 16, ratio: 1e3 },
+        Workload::Flypast {
+            n: 16,
+            ratio: 1e3,
+            seed: 1,
+        },
+        Workload::Flypast {
+            n: 16,
+            ratio: 1e3,
+            seed: 2,
+        },
         Workload::Gas {
             k: 8,
             n: 6,
@@ -21,6 +30,7 @@ fn tiny_run_writes_a_report() {
         Workload::Swarm { k: 20 },
     ];
     config.methods = Method::defaults();
+    config.build_time = true;
     let mut cells = 0;
     let mut done = 0;
     let run = harness::run(&config, &Executor::InProcess, &mut |p| match p {
@@ -29,7 +39,7 @@ fn tiny_run_writes_a_report() {
         Progress::CellDone(_) => done += 1,
     })
     .unwrap();
-    assert_eq!(cells, 4 * config.methods.len());
+    assert_eq!(cells, 5 * config.methods.len());
     assert_eq!(done, cells);
     for w in &run.workloads {
         assert_eq!(run.references.get(w).map(String::as_str), Some("brute"));
@@ -61,6 +71,18 @@ fn tiny_run_writes_a_report() {
     assert!(md.contains("### gas") && md.contains("| sweep ns/ev |"));
     assert!(md.contains("| events / sim s | ns / event |"));
     assert!(md.contains("parry-step dt=1/240"));
+    assert!(md.contains("## Flypast: events, pops and construction"));
+    assert!(md.contains("### Flypast over seeds"));
+    for w in ["flypast-n16-r1e3", "flypast-n16-r1e3-s2"] {
+        let c = run.cell(w, "brute").unwrap();
+        assert!(c.outcome.build_seconds.is_some(), "{w}");
+        assert!(run
+            .cell(w, "sweep")
+            .unwrap()
+            .outcome
+            .build_seconds
+            .is_none());
+    }
     assert!(files
         .iter()
         .any(|f| f.extension().is_some_and(|e| e == "svg")));
@@ -83,6 +105,22 @@ fn names_round_trip() {
     }
     assert!(Method::parse("parry-step:0").is_err());
     assert!(Workload::parse("gas-k10").is_err());
+    let seeded = Workload::Flypast {
+        n: 64,
+        ratio: 1e3,
+        seed: 7,
+    };
+    assert_eq!(seeded.name(), "flypast-n64-r1e3-s7");
+    assert_eq!(Workload::parse("flypast-n64-r1e3-s7").unwrap(), seeded);
+    assert_eq!(
+        Workload::parse("flypast-n64-r1e3").unwrap(),
+        Workload::Flypast {
+            n: 64,
+            ratio: 1e3,
+            seed: kss_bench::workload::SEED,
+        }
+    );
+    assert!(Workload::parse("flypast-n64-r1e3-x7").is_err());
 }
 
 #[test]
@@ -115,6 +153,7 @@ fn workloads_are_valid_scenarios() {
         Workload::Flypast {
             n: 4096,
             ratio: 1e6,
+            seed: 1,
         },
     ] {
         w.scenario().validate().unwrap();

@@ -366,6 +366,12 @@ pub struct BenchArgs {
     /// Time budget per cell in seconds (default 600, quick 5).
     #[arg(long, value_name = "SECONDS", value_parser = parse_positive)]
     pub budget: Option<f64>,
+    /// Also time the construction of the library's structures: each of
+    /// their cells first runs the structure up to the smallest positive
+    /// double (world, validation, structure and certificates; no events),
+    /// reported as `build`.
+    #[arg(long)]
+    pub build_time: bool,
     /// Print the workloads and methods that would run, and exit.
     #[arg(long)]
     pub list: bool,
