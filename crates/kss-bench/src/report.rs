@@ -772,10 +772,13 @@ fn flypast_fits(
                 let pops = po.map_or(String::new(), |(a, b, r2)| {
                     format!("{} (R² {r2:.3})", format_affine(a, b))
                 });
+                let mut used: Vec<f64> = done.iter().map(|(r, _)| *r).collect();
+                used.sort_by(f64::total_cmp);
+                used.dedup();
                 lines.push(format!(
                     "| {n} | {} | {} | {} | {} (R² {r2:.3}) | {pops} |",
                     method_label(me),
-                    ratios.len(),
+                    used.len(),
                     done.len(),
                     format_affine(a, b),
                 ));
@@ -1162,16 +1165,22 @@ pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
         ns.dedup();
         ns.retain(|&n| count(&|p| p.0 == n, &|p| p.1.to_bits()) >= 3);
         if ns.len() >= 2 {
+            // colour by n; the first method solid, the others dashed
             let mut series = Vec::new();
-            for me in &run.methods {
-                for &n0 in &ns {
+            for (m, me) in run.methods.iter().enumerate() {
+                for (i, &n0) in ns.iter().enumerate() {
                     let pick = |w: &Workload| match w {
                         Workload::Flypast { n, ratio, .. } if *n == n0 => Some(*ratio),
                         _ => None,
                     };
                     let events = |o: &CellOutcome| Some(o.counters.events as f64);
                     if let Some(mut se) = method_series(run, me, &pick, &events) {
+                        if se.points.len() < 3 {
+                            continue;
+                        }
                         se.label = format!("{} n = {n0}", se.label);
+                        se.colour = Some(i);
+                        se.dashed = m > 0;
                         series.push(se);
                     }
                 }
@@ -1197,6 +1206,25 @@ pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
                     &series,
                 ),
             ));
+        }
+        // with sweeps over D/s at several n: each one on its own too
+        for &n1 in ns.iter().filter(|_| ns.len() >= 2) {
+            let pick = |w: &Workload| match w {
+                Workload::Flypast { n, ratio, .. } if *n == n1 => Some(*ratio),
+                _ => None,
+            };
+            let series = events_and_pops(run, &pick);
+            if !series.is_empty() {
+                out.push((
+                    format!("flypast-events-vs-gap-n{n1}.svg"),
+                    loglog_plot(
+                        &format!("flypast, n = {n1}: events processed against D/s"),
+                        "D/s (diameter over gap)",
+                        "events",
+                        &series,
+                    ),
+                ));
+            }
         }
     }
     let gas_n: Option<usize> = parsed
@@ -1243,6 +1271,67 @@ pub fn plots(run: &BenchRun) -> Vec<(String, String)> {
         }
     }
     out
+}
+
+/// Merges runs, in order: workloads and methods in the order first seen,
+/// a later run's cell of the same workload and method replacing an earlier
+/// one (and its reference), the largest budget, the total of the wall
+/// times; quick only if every run was.
+pub fn merge(runs: Vec<BenchRun>) -> Option<BenchRun> {
+    let mut it = runs.into_iter();
+    let mut out = it.next()?;
+    for r in it {
+        out.quick &= r.quick;
+        out.budget_seconds = out.budget_seconds.max(r.budget_seconds);
+        out.total_seconds += r.total_seconds;
+        for w in r.workloads {
+            if !out.workloads.contains(&w) {
+                out.workloads.push(w);
+            }
+        }
+        for m in r.methods {
+            if !out.methods.contains(&m) {
+                out.methods.push(m);
+            }
+        }
+        out.references.extend(r.references);
+        for c in r.cells {
+            out.cells
+                .retain(|x| !(x.workload == c.workload && x.method == c.method));
+            out.cells.push(c);
+        }
+    }
+    Some(out)
+}
+
+/// Reads the `bench.json` files written by [`write`] and merges their runs
+/// ([`merge`]); the machine is the first file's.
+pub fn read_runs(paths: &[PathBuf]) -> std::io::Result<(BenchRun, Machine)> {
+    #[derive(Deserialize)]
+    struct Saved {
+        machine: Machine,
+        run: BenchRun,
+    }
+    let mut machine = None;
+    let mut runs = Vec::new();
+    for p in paths {
+        let text = fs::read_to_string(p)?;
+        let saved: Saved = serde_json::from_str(&text).map_err(|e| {
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("{}: {e}", p.display()),
+            )
+        })?;
+        machine.get_or_insert(saved.machine);
+        runs.push(saved.run);
+    }
+    match (merge(runs), machine) {
+        (Some(run), Some(machine)) => Ok((run, machine)),
+        _ => Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "no bench.json given",
+        )),
+    }
 }
 
 /// Writes `bench.md`, `bench.json` and the plots into `dir`; returns the

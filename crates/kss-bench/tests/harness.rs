@@ -159,3 +159,63 @@ fn workloads_are_valid_scenarios() {
         w.scenario().validate().unwrap();
     }
 }
+
+#[test]
+fn merged_runs_keep_the_later_cell() {
+    use kss_bench::harness::{BenchRun, CellOutcome, CellResult};
+    let cell = |w: &str, m: &str, events: u64| CellResult {
+        workload: w.into(),
+        method: m.into(),
+        outcome: CellOutcome {
+            status: Status::Ok,
+            wall_seconds: 1.0,
+            setup_seconds: 0.0,
+            sim_seconds: 1.0,
+            counters: kss_bench::Counters {
+                events,
+                ..Default::default()
+            },
+            peak_rss_kib: None,
+            build_seconds: None,
+        },
+        comparison: None,
+    };
+    let run = |workloads: &[&str], methods: &[&str], cells| BenchRun {
+        quick: false,
+        budget_seconds: 10.0,
+        workloads: workloads.iter().map(|w| w.to_string()).collect(),
+        methods: methods.iter().map(|m| m.to_string()).collect(),
+        references: Default::default(),
+        cells,
+        total_seconds: 2.0,
+    };
+    let a = run(
+        &["flypast-n16-r1e3", "flypast-n64-r1e3"],
+        &["plain"],
+        vec![
+            cell("flypast-n16-r1e3", "plain", 1),
+            cell("flypast-n64-r1e3", "plain", 2),
+        ],
+    );
+    let b = run(
+        &["flypast-n64-r1e3", "flypast-n64-r1e8"],
+        &["hierarchical", "plain"],
+        vec![
+            cell("flypast-n64-r1e3", "plain", 3),
+            cell("flypast-n64-r1e8", "hierarchical", 4),
+        ],
+    );
+    let m = kss_bench::report::merge(vec![a, b]).unwrap();
+    assert_eq!(
+        m.workloads,
+        ["flypast-n16-r1e3", "flypast-n64-r1e3", "flypast-n64-r1e8"]
+    );
+    assert_eq!(m.methods, ["plain", "hierarchical"]);
+    assert_eq!(m.cells.len(), 3);
+    let events = |w, me| m.cell(w, me).unwrap().outcome.counters.events;
+    assert_eq!(events("flypast-n16-r1e3", "plain"), 1);
+    assert_eq!(events("flypast-n64-r1e3", "plain"), 3);
+    assert_eq!(events("flypast-n64-r1e8", "hierarchical"), 4);
+    assert_eq!(m.total_seconds, 4.0);
+    assert!(kss_bench::report::merge(Vec::new()).is_none());
+}

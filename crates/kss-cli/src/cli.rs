@@ -372,6 +372,11 @@ pub struct BenchArgs {
     /// reported as `build`.
     #[arg(long)]
     pub build_time: bool,
+    /// Run nothing: write the report (bench.md, bench.json, plots) into
+    /// --out from the bench.json files of earlier runs, merged (a later
+    /// file's cell of the same workload and method replaces an earlier one).
+    #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = ["list", "cell"])]
+    pub report_from: Vec<PathBuf>,
     /// Print the workloads and methods that would run, and exit.
     #[arg(long)]
     pub list: bool,

@@ -695,6 +695,21 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
         println!("{line}");
         return Ok(());
     }
+    if !args.report_from.is_empty() {
+        let (run, machine) = kss_bench::report::read_runs(&args.report_from)
+            .map_err(|e| CliError::new(ErrorKind::Io, format!("--report-from: {e}")))?;
+        let files = kss_bench::report::write(&args.out, &run, &machine).map_err(|e| {
+            CliError::new(
+                ErrorKind::Io,
+                format!("cannot write results to {}: {e}", args.out.display()),
+            )
+        })?;
+        print!("{}", kss_bench::report::markdown(&run, &machine));
+        for f in &files {
+            eprintln!("kss bench: wrote {}", f.display());
+        }
+        return Ok(());
+    }
     let mut config = Config::new(args.quick, &args.out);
     if let Some(b) = args.budget {
         config.budget_seconds = b;
