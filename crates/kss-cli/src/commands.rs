@@ -587,26 +587,15 @@ pub fn render(args: &RenderArgs) -> Result<(), CliError> {
 /// `kss demo`.
 pub fn demo(args: &DemoArgs) -> Result<(), CliError> {
     let scenario = gen::demo();
-    let mut structure = StructureKind::from(args.structure);
+    let structure = StructureKind::from(args.structure);
     let start = Instant::now();
     let mut events: Vec<CollisionEvent> = Vec::new();
-    let stats = loop {
-        let options = RunOptions {
-            structure,
-            ..Default::default()
-        };
-        events.clear();
-        match kss::run(&scenario, &options, &mut |e| events.push(e.clone())) {
-            Ok(stats) => break stats,
-            Err(RunError::NotImplemented(name)) if structure == StructureKind::Hierarchical => {
-                eprintln!(
-                    "kss demo: the {name} structure is not implemented yet; falling back to plain"
-                );
-                structure = StructureKind::Plain;
-            }
-            Err(e) => return Err(CliError::from_run("demo", e)),
-        }
+    let options = RunOptions {
+        structure,
+        ..Default::default()
     };
+    let stats = kss::run(&scenario, &options, &mut |e| events.push(e.clone()))
+        .map_err(|e| CliError::from_run("demo", e))?;
     let wall = start.elapsed().as_secs_f64();
     let mut sink = EventSink::new(true);
     for e in &events {
@@ -680,6 +669,26 @@ fn bench_workloads(args: &BenchArgs) -> Result<Vec<kss_bench::workload::Workload
     Ok(out)
 }
 
+/// Write a benchmark run's Markdown table, JSON and plots into `out`, and
+/// the table on standard output.
+fn write_report(
+    out: &Path,
+    run: &kss_bench::harness::BenchRun,
+    machine: &kss_bench::report::Machine,
+) -> Result<(), CliError> {
+    let files = kss_bench::report::write(out, run, machine).map_err(|e| {
+        CliError::new(
+            ErrorKind::Io,
+            format!("cannot write results to {}: {e}", out.display()),
+        )
+    })?;
+    print!("{}", kss_bench::report::markdown(run, machine));
+    for f in &files {
+        eprintln!("kss bench: wrote {}", f.display());
+    }
+    Ok(())
+}
+
 /// `kss bench`.
 pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
     use kss_bench::harness::{self, Config, Executor, Progress, Status};
@@ -698,17 +707,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
     if !args.report_from.is_empty() {
         let (run, machine) = kss_bench::report::read_runs(&args.report_from)
             .map_err(|e| CliError::new(ErrorKind::Io, format!("--report-from: {e}")))?;
-        let files = kss_bench::report::write(&args.out, &run, &machine).map_err(|e| {
-            CliError::new(
-                ErrorKind::Io,
-                format!("cannot write results to {}: {e}", args.out.display()),
-            )
-        })?;
-        print!("{}", kss_bench::report::markdown(&run, &machine));
-        for f in &files {
-            eprintln!("kss bench: wrote {}", f.display());
-        }
-        return Ok(());
+        return write_report(&args.out, &run, &machine);
     }
     let mut config = Config::new(args.quick, &args.out);
     if let Some(b) = args.budget {
@@ -800,16 +799,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::new(ErrorKind::Io, format!("benchmark: {e}")))?;
     bar.finish_and_clear();
     let machine = kss_bench::report::machine();
-    let files = kss_bench::report::write(&args.out, &run, &machine).map_err(|e| {
-        CliError::new(
-            ErrorKind::Io,
-            format!("cannot write results to {}: {e}", args.out.display()),
-        )
-    })?;
-    print!("{}", kss_bench::report::markdown(&run, &machine));
-    for f in &files {
-        eprintln!("kss bench: wrote {}", f.display());
-    }
+    write_report(&args.out, &run, &machine)?;
     eprintln!(
         "kss bench: {} cells in {:.1} s",
         run.cells.len(),

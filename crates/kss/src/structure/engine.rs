@@ -538,17 +538,8 @@ impl Kinetic {
                 }
                 Failure::Between { .. } => nearby_contact(world, &p, &t).into_iter().collect(),
             };
-            let touch = !pairs.is_empty();
-            let pairs: Vec<(BodyId, BodyId)> = pairs
-                .into_iter()
-                .filter(|&(a, b)| collides(a, b, &t))
-                .collect();
-            if !pairs.is_empty() {
-                self.waiting.push(p);
-                return Ok(Step::Contact(t, pairs));
-            }
-            if touch && p.iter().any(|&a| !world.is_real(a)) {
-                return Ok(Step::Refine(t, p));
+            if let Some(step) = self.touch(world, p, &t, pairs, collides) {
+                return Ok(step);
             }
             // not a contact, or a touch that is not a collision: a
             // structural failure
@@ -559,6 +550,34 @@ impl Kinetic {
             return Ok(Step::Deferred(t));
         }
         self.handle_or_rebuild(world, p, t, contacts, collides)
+    }
+
+    /// The failure of `p` at `t` where the bodies of `pairs` touch: a
+    /// contact if some pair collides by the driver's rule (`collides`), else
+    /// a refinement if the triple has an approximation vertex; `None` for a
+    /// structural failure (no touch, or a touch that is not a collision).
+    fn touch(
+        &mut self,
+        world: &Geo,
+        p: [Att; 3],
+        t: &Time,
+        pairs: Vec<(BodyId, BodyId)>,
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
+    ) -> Option<Step> {
+        if pairs.is_empty() {
+            return None;
+        }
+        let colliding: Vec<(BodyId, BodyId)> = pairs
+            .into_iter()
+            .filter(|&(a, b)| collides(a, b, t))
+            .collect();
+        if !colliding.is_empty() {
+            self.waiting.push(p);
+            return Some(Step::Contact(t.clone(), colliding));
+        }
+        p.iter()
+            .any(|&a| !world.is_real(a))
+            .then(|| Step::Refine(t.clone(), p))
     }
 
     /// [`Kinetic::handle`], falling back to [`Kinetic::rebuild_after`] when
@@ -672,17 +691,9 @@ impl Kinetic {
         );
         let mut failure = classify(world, &cert, &t);
         if let Failure::Contact { a, b, third } = failure {
-            let pairs: Vec<(BodyId, BodyId)> =
-                contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third))
-                    .into_iter()
-                    .filter(|&(a, b)| collides(a, b, &t))
-                    .collect();
-            if !pairs.is_empty() {
-                self.waiting.push(p);
-                return Ok(Step::Contact(t, pairs));
-            }
-            if p.iter().any(|&a| !world.is_real(a)) {
-                return Ok(Step::Refine(t, p));
+            let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third));
+            if let Some(step) = self.touch(world, p, &t, pairs, collides) {
+                return Ok(step);
             }
             // two polygons touch but do not collide (they slid along each
             // other, or the collision response at this instant already
