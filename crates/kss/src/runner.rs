@@ -200,7 +200,7 @@ pub fn plain_state_at(
         ..options.clone()
     };
     let mut world = World::new(scenario, options.until)?;
-    let mut engine = PlainEngine::new(&world, options.audit, hierarchical)?;
+    let mut engine = KineticEngine::new(&world, options.audit, hierarchical)?;
     let mut last: Option<Time> = None;
     drive(&mut world, &mut engine, &options, Some(&t), &mut |e| {
         last = Some(e.time.clone());
@@ -345,14 +345,16 @@ fn make_engine(world: &World, options: &RunOptions) -> Result<Box<dyn Engine>, R
             world,
             options.pair_method,
         )))),
-        StructureKind::Plain => Ok(Box::new(PlainEngine::new(world, options.audit, false)?)),
-        StructureKind::Hierarchical => Ok(Box::new(PlainEngine::new(world, options.audit, true)?)),
+        StructureKind::Plain => Ok(Box::new(KineticEngine::new(world, options.audit, false)?)),
+        StructureKind::Hierarchical => {
+            Ok(Box::new(KineticEngine::new(world, options.audit, true)?))
+        }
     }
 }
 
 /// The kinetic separation structure, on the polygons (`plain`) or on their
 /// hierarchical outer approximations (`hierarchical`).
-struct PlainEngine {
+struct KineticEngine {
     k: Kinetic,
     /// How the structure sees the bodies: real polygons for `plain`, the
     /// current approximations for `hierarchical`.
@@ -370,8 +372,8 @@ struct PlainEngine {
     responded: Option<(Time, Vec<(BodyId, BodyId)>)>,
 }
 
-impl PlainEngine {
-    fn new(world: &World, audit: bool, hierarchical: bool) -> Result<PlainEngine, RunError> {
+impl KineticEngine {
+    fn new(world: &World, audit: bool, hierarchical: bool) -> Result<KineticEngine, RunError> {
         let mut shapes = Shapes::default();
         let mut pops = 0;
         if hierarchical {
@@ -387,7 +389,7 @@ impl PlainEngine {
         if pops > 0 {
             *k.counts.entry("initial_pop").or_default() += pops;
         }
-        Ok(PlainEngine {
+        Ok(KineticEngine {
             k,
             shapes,
             audit,
@@ -418,7 +420,7 @@ impl PlainEngine {
     }
 }
 
-impl PlainEngine {
+impl KineticEngine {
     fn geo<'a>(&'a self, world: &'a World) -> Geo<'a> {
         Geo {
             world,
@@ -504,7 +506,7 @@ impl PlainEngine {
     }
 }
 
-impl Engine for PlainEngine {
+impl Engine for KineticEngine {
     fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
         let mut contacts: Vec<(BodyId, BodyId)> = Vec::new();
         let mut at: Option<Time> = None;
