@@ -55,7 +55,7 @@ fn plain_matches_brute_on_generic_families() {
 }
 
 #[test]
-#[ignore = "known failures on degenerate families in bounce mode (issue 3 open): see ARCHITECTURE.md"]
+#[ignore = "known failures: 3 of 1200 stop with an error where polygons graze and slide at one instant (issue 3 open, see ARCHITECTURE.md)"]
 fn plain_matches_brute_on_degenerate_families() {
     let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
     assert!(
