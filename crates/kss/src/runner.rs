@@ -90,6 +90,9 @@ pub struct RunStats {
     /// degeneracies coincide and the local operations found no valid
     /// structure (0 for `brute`).
     pub degenerate_rebuilds: u64,
+    /// Times the hierarchical structure was rebuilt because a pop could not
+    /// be done in place (0 for `plain` and `brute`).
+    pub refine_rebuilds: u64,
 }
 
 /// Why a run could not complete.
@@ -294,9 +297,9 @@ trait Engine {
     /// Internal events by kind.
     fn internal_events(&self) -> BTreeMap<String, u64>;
     /// Times the structure was rebuilt from scratch: after removals, and at
-    /// degenerate instants.
-    fn rebuilds(&self) -> (u64, u64) {
-        (0, 0)
+    /// degenerate instants, and when a pop could not be done in place.
+    fn rebuilds(&self) -> (u64, u64, u64) {
+        (0, 0, 0)
     }
 }
 
@@ -471,8 +474,21 @@ impl KineticEngine {
             .collect();
         popped.sort();
         popped.dedup();
+        // each pop updates the structure in place; once one cannot, the
+        // rest only refine the approximations and the structure is rebuilt
+        let mut local = true;
+        let k = &mut self.k;
+        let mut popper = |shapes: &mut Shapes, a: Att| -> Result<bool, String> {
+            if local {
+                let (changed, followed) = k.pop_local(world, shapes, a, t)?;
+                local = followed;
+                Ok(changed)
+            } else {
+                Ok(refine::pop(shapes, a))
+            }
+        };
         for a in popped {
-            pops += u64::from(refine::pop(&mut self.shapes, a));
+            pops += u64::from(popper(&mut self.shapes, a).map_err(RunError::Internal)?);
         }
         let mut bodies: Vec<BodyId> = triples
             .iter()
@@ -486,18 +502,28 @@ impl KineticEngine {
         bodies.dedup();
         for i in 0..bodies.len() {
             for j in i + 1..bodies.len() {
-                pops += refine::separate_after(world, &mut self.shapes, (bodies[i], bodies[j]), t)
-                    .map_err(RunError::Internal)?;
+                pops += refine::separate_after(
+                    world,
+                    &mut self.shapes,
+                    (bodies[i], bodies[j]),
+                    t,
+                    &mut popper,
+                )
+                .map_err(RunError::Internal)?;
             }
         }
         *self.k.counts.entry("pop").or_default() += pops;
-        if after_response {
+        let geo = Geo {
+            world,
+            shapes: &self.shapes,
+        };
+        if local {
+            for p in triples {
+                self.k.reschedule_idle(&geo, p, t);
+            }
+        } else if after_response {
             self.k.rebuild_after_response("refine_rebuild");
         } else {
-            let geo = Geo {
-                world,
-                shapes: &self.shapes,
-            };
             self.k
                 .rebuild_after(&geo, t, "refine_rebuild")
                 .map_err(RunError::Internal)?;
@@ -696,16 +722,20 @@ impl Engine for KineticEngine {
             .filter(|(k, _)| {
                 !matches!(
                     **k,
-                    "repair" | "rebuild" | "degenerate_rebuild" | "refine_rebuild"
+                    "repair" | "rebuild" | "degenerate_rebuild" | "refine_rebuild" | "local_pop"
                 )
             })
             .map(|(k, v)| (k.to_string(), *v))
             .collect()
     }
 
-    fn rebuilds(&self) -> (u64, u64) {
+    fn rebuilds(&self) -> (u64, u64, u64) {
         let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
-        (get("rebuild"), get("degenerate_rebuild"))
+        (
+            get("rebuild"),
+            get("degenerate_rebuild"),
+            get("refine_rebuild"),
+        )
     }
 }
 
@@ -828,7 +858,11 @@ fn drive(
     stats.events_by_kind = by_kind;
     stats.certificates_final = final_certs;
     stats.certificates_max = max_certs;
-    (stats.rebuilds, stats.degenerate_rebuilds) = engine.rebuilds();
+    (
+        stats.rebuilds,
+        stats.degenerate_rebuilds,
+        stats.refine_rebuilds,
+    ) = engine.rebuilds();
     stats.collisions = collisions;
     stats.max_number_bits = max_bits;
     Ok(stats)

@@ -450,6 +450,81 @@ impl Kinetic {
         Ok(())
     }
 
+    /// Pop approximation vertex `a` (in `shapes`) at `t` and update the
+    /// structure in place ([`Kss::pop_vertex`]): the touched corridors are
+    /// normalized and their owners' certificates, and every certificate on a
+    /// vertex of the body that moved, recomputed. Returns whether the
+    /// approximation changed and whether the structure followed (if not, it
+    /// must be rebuilt on the new approximations).
+    pub fn pop_local(
+        &mut self,
+        world: &crate::world::World,
+        shapes: &mut super::geo::Shapes,
+        a: Att,
+        t: &Time,
+    ) -> Result<(bool, bool), String> {
+        let (corrs, tris, ids) = match self.kss.pop_vertex(world, shapes, a, t) {
+            super::pop::PopResult::NotPopped => return Ok((false, true)),
+            super::pop::PopResult::Failed => return Ok((true, false)),
+            super::pop::PopResult::Local { corrs, tris, ids } => (corrs, tris, ids),
+        };
+        let geo = Geo {
+            world,
+            shapes: &*shapes,
+        };
+        let Obj::Body(b) = a.obj else {
+            unreachable!("a popped vertex is on a body")
+        };
+        // every certificate on a changed vertex, and its owners
+        let stale: Vec<[Att; 3]> = self
+            .by_body
+            .get(&b)
+            .into_iter()
+            .flatten()
+            .filter(|p| p.iter().any(|x| ids.contains(x)))
+            .copied()
+            .collect();
+        let mut owners: BTreeSet<Owner> = corrs.iter().map(|&k| Owner::Corr(k)).collect();
+        owners.extend(tris.iter().map(|&t| Owner::Tri(t)));
+        for p in &stale {
+            if let Some(s) = self.certs.get(p) {
+                owners.extend(s.owners.iter().copied());
+            }
+        }
+        for o in &owners {
+            if let Owner::Corr(k) = *o {
+                if self.kss.normalize(&geo, k, t, None).is_err() {
+                    return Ok((true, false));
+                }
+            }
+        }
+        for o in owners {
+            self.refresh(&geo, o, t)?;
+        }
+        let moved: Vec<[Att; 3]> = self
+            .by_body
+            .get(&b)
+            .into_iter()
+            .flatten()
+            .filter(|p| p.iter().any(|x| ids.contains(x)))
+            .copied()
+            .collect();
+        for p in &moved {
+            self.reschedule(&geo, p, t);
+        }
+        *self.counts.entry("local_pop").or_default() += 1;
+        Ok((true, true))
+    }
+
+    /// Schedule the certificate on `p` again if it was popped from the queue
+    /// and not handled (a refinement replaced its failure).
+    pub fn reschedule_idle(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
+        let p = super::certs::rotate_to_min(*p);
+        if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+            self.reschedule(world, &p, now);
+        }
+    }
+
     /// Give up on the local operations at this instant (they cycle) and
     /// rebuild once the collision response has been applied.
     pub fn give_up_instant(&mut self) {

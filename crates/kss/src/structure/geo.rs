@@ -52,7 +52,7 @@ impl Approx {
     }
 
     /// The visible id after `k` (counter-clockwise).
-    fn next_visible(&self, k: usize) -> usize {
+    pub fn next_visible(&self, k: usize) -> usize {
         let mut x = self.exposed.succ(k).expect("a non-empty set");
         while self.hidden(x) && x != k {
             x = self.exposed.succ(x).expect("a non-empty set");
@@ -61,7 +61,7 @@ impl Approx {
     }
 
     /// The visible id before `k` (clockwise).
-    fn prev_visible(&self, k: usize) -> usize {
+    pub fn prev_visible(&self, k: usize) -> usize {
         let mut x = self.exposed.pred(k).expect("a non-empty set");
         while self.hidden(x) && x != k {
             x = self.exposed.pred(x).expect("a non-empty set");
@@ -157,6 +157,38 @@ impl<'a> Geo<'a> {
             }
         };
         Att { obj: a.obj, v }
+    }
+
+    /// The number of clockwise steps from `from` to `to` on one body (less
+    /// than the body's vertex count; `None` if `to` is not met within
+    /// `limit` steps).
+    pub fn cw_distance(&self, from: Att, to: Att, limit: u32) -> Option<u32> {
+        let (Obj::Body(b), Obj::Body(c)) = (from.obj, to.obj) else {
+            return None;
+        };
+        if b != c {
+            return None;
+        }
+        match self.shapes.approx(b) {
+            None => {
+                let n = self.world.body(b).shape.len() as u32;
+                let d = (from.v + n - to.v) % n;
+                (d <= limit).then_some(d)
+            }
+            Some(ap) => {
+                let mut x = from.v as usize;
+                for d in 0..=limit {
+                    if x == to.v as usize {
+                        return Some(d);
+                    }
+                    x = ap.prev_visible(x);
+                    if x == from.v as usize {
+                        return None;
+                    }
+                }
+                None
+            }
+        }
     }
 
     /// The counter-clockwise neighbour of `a` (`ω` stays `ω`).

@@ -608,7 +608,7 @@ impl Kss {
     /// Find a middle bridge (or none) that makes corridor `k`'s faces
     /// pseudo-triangles just on `side` of `t`, keeping the current one if it
     /// does; sets it and returns the walk length (0: nothing changed).
-    fn decompose(
+    pub(crate) fn decompose(
         &mut self,
         world: &Geo,
         k: CorrId,

@@ -33,6 +33,7 @@ pub mod faces;
 pub mod geo;
 pub mod local;
 pub mod ops;
+pub mod pop;
 pub mod refine;
 pub mod view;
 

@@ -109,6 +109,7 @@ fn separate(
     (a, b): (BodyId, BodyId),
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
     touch: bool,
+    popper: &mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String>,
 ) -> Result<u64, String> {
     let mut pops = 0;
     loop {
@@ -124,19 +125,21 @@ fn separate(
             ));
         }
         for x in todo {
-            pops += u64::from(pop(shapes, x));
+            pops += u64::from(popper(shapes, x)?);
         }
     }
 }
 
 /// Pop the approximations of bodies `a` and `b` until they are apart just
 /// after `t` (touching along a line is allowed: the polygons may slide
-/// along each other); the number of pops.
+/// along each other); the number of pops. Each pop goes through `popper`
+/// (which may update a structure built on the approximations).
 pub fn separate_after(
     world: &World,
     shapes: &mut Shapes,
     (a, b): (BodyId, BodyId),
     t: &Time,
+    popper: &mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String>,
 ) -> Result<u64, String> {
     separate(
         world,
@@ -144,6 +147,7 @@ pub fn separate_after(
         (a, b),
         &|geo, u, v, w| orient_poly(&geo.point(u), &geo.point(v), &geo.point(w)).sign_after(t),
         true,
+        popper,
     )
 }
 
@@ -162,6 +166,7 @@ pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Resu
                 orient(&p(u), &p(v), &p(w))
             },
             false,
+            &mut |shapes, x| Ok(pop(shapes, x)),
         )?;
     }
     Ok(pops)

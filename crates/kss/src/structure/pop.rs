@@ -1,0 +1,390 @@
+//! Popping an approximation vertex in place (the paper's section 4: "pop
+//! the approximation vertex and restore the invariants using the convex
+//! chain that was previously hidden"), instead of rebuilding the structure.
+//!
+//! Popping vertex `v = av(i, k)` of body `B` inserts `m = top(i, k)`: `v` is
+//! replaced by `m' = av(i, m)` on the line `L_i` and `k' = av(m, k)` on
+//! `L_k`, joined by a new edge on `L_m`. The approximation only shrinks, so
+//! the free space only grows, by the triangle `(m', v, k')`.
+//!
+//! Around `v`, in the free space, the structure has (from the edge towards
+//! `i` to the edge towards `k`'s successor) a corridor whose chain leaves
+//! `v` clockwise, then `r ≥ 0` partition triangles with a corner at `v`
+//! separated by corridors whose chain on `B` is empty at `v`, then a
+//! corridor whose chain arrives at `v`. The new edge goes to exactly one of
+//! these `r + 1` corridors, the triangles before it get the corner `m'` and
+//! the ones after it `k'` (a partition triangle cannot take the edge: its
+//! corners stay on three objects). Chain lengths and middle-bridge offsets
+//! along `B` are recomputed from the new ends.
+//!
+//! Which corridor takes the edge is decided by validity: the candidates are
+//! tried in order and the first whose touched corridors have a
+//! pseudo-triangle decomposition, and whose touched partition triangles and
+//! hull turns hold, just *before* the current instant is kept. Before the
+//! instant the old approximations were disjoint and the structure valid, so
+//! a correct local update is valid there too; the certificates that fail at
+//! the instant itself (the two approximations still touch where the pop was
+//! not enough) are then ordinary events of the instant. If no candidate
+//! holds, the structure is left unchanged and the caller rebuilds.
+//!
+//! Cost: one scan of the triangles and corridors to find the ones on `B`
+//! (O(k)), and walks along `B`'s chains (O(|S_B|)), per candidate; no
+//! triangulation and no certificate outside the touched owners.
+
+use super::geo::{Geo, Shapes};
+use super::local::Side;
+use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
+use crate::motion::orient_poly;
+use crate::num::{Sign, Time};
+use crate::world::World;
+
+/// What [`Kss::pop_vertex`] did.
+#[derive(Clone, Debug)]
+pub enum PopResult {
+    /// Nothing to pop: not an approximation vertex, or not seen.
+    NotPopped,
+    /// Popped, and the structure was updated in place.
+    Local {
+        /// Corridors whose ends, chains or middle bridge may have changed.
+        corrs: Vec<CorrId>,
+        /// Partition triangles whose corners changed.
+        tris: Vec<TriId>,
+        /// The vertex ids of the body whose position or meaning changed
+        /// (certificates on them must be recomputed).
+        ids: Vec<Att>,
+    },
+    /// Popped, but no local update was found valid: the structure still
+    /// describes the old approximation and must be rebuilt.
+    Failed,
+}
+
+/// The chain of a corridor on the popped body, as it was before the pop.
+#[derive(Clone, Debug)]
+struct ChainRec {
+    corr: CorrId,
+    /// The chain is the corridor's A-chain (else its B-chain).
+    on_a: bool,
+    /// Start and end of the chain (clockwise) before the pop.
+    start: Att,
+    end: Att,
+    len: u32,
+    /// The middle bridge's ends and offsets before the pop.
+    mid: Option<(Att, Att, u32, u32)>,
+}
+
+/// Of `d` and `d + count`, the chain length nearest to `old` (a pop changes
+/// a chain by at most a few edges; a chain may wrap all the way round).
+fn nearest(d: u32, count: u32, old: u32) -> u32 {
+    let wrap = d + count;
+    if wrap.abs_diff(old) < d.abs_diff(old) {
+        wrap
+    } else {
+        d
+    }
+}
+
+impl Kss {
+    /// The length of corridor `k`'s chain on object `o` (`None` if `o` is
+    /// neither side).
+    fn chain_len_on(&self, k: CorrId, o: Obj) -> Option<u32> {
+        let c = &self.corrs[k.0 as usize];
+        if c.a == o {
+            Some(c.len_a)
+        } else if c.b == o {
+            Some(c.len_b)
+        } else {
+            None
+        }
+    }
+
+    /// Pop approximation vertex `a` in `shapes` and update the structure in
+    /// place for the instants just before `t` (module docs).
+    pub fn pop_vertex(
+        &mut self,
+        world: &World,
+        shapes: &mut Shapes,
+        a: Att,
+        t: &Time,
+    ) -> PopResult {
+        let Obj::Body(b) = a.obj else {
+            return PopResult::NotPopped;
+        };
+        let body = a.obj;
+        let k = a.v as usize;
+        let i = {
+            let Some(ap) = shapes.approx(b) else {
+                return PopResult::NotPopped;
+            };
+            if !ap.exposed.contains(k) || ap.hidden(k) {
+                return PopResult::NotPopped;
+            }
+            match ap.exposed.pred(k) {
+                Some(i) => i,
+                None => return PopResult::NotPopped,
+            }
+        };
+        let old = Geo {
+            world,
+            shapes: &*shapes,
+        };
+        if old.is_real(a) {
+            return PopResult::NotPopped;
+        }
+        let a_i = Att::vertex(b, i as u32);
+        // the triangles with a corner at `v`, and every corridor along `B`
+        let at_v: Vec<(TriId, usize)> = self
+            .tris
+            .iter()
+            .enumerate()
+            .filter_map(|(ti, tr)| {
+                tr.c.iter()
+                    .position(|&c| c == a)
+                    .map(|ci| (TriId(ti as u32), ci))
+            })
+            .collect();
+        let at_i: Vec<(TriId, usize)> = self
+            .tris
+            .iter()
+            .enumerate()
+            .filter_map(|(ti, tr)| {
+                tr.c.iter()
+                    .position(|&c| c == a_i)
+                    .map(|ci| (TriId(ti as u32), ci))
+            })
+            .collect();
+        let chains: Vec<ChainRec> = (0..self.corrs.len())
+            .filter_map(|ki| {
+                let kid = CorrId(ki as u32);
+                let c = &self.corrs[ki];
+                if c.a != body && c.b != body {
+                    return None;
+                }
+                let on_a = c.a == body;
+                let (a_s, b_s, a_t, b_t) = self.ends(kid);
+                let (start, end, len) = if on_a {
+                    (a_s, a_t, c.len_a)
+                } else {
+                    (b_t, b_s, c.len_b)
+                };
+                let mid = c
+                    .mid
+                    .map(|(mi, mj)| (old.cw(a_s, mi), old.cw(b_t, mj), mi, mj));
+                Some(ChainRec {
+                    corr: kid,
+                    on_a,
+                    start,
+                    end,
+                    len,
+                    mid,
+                })
+            })
+            .collect();
+        // the triangles at `v` in order from the edge towards `i`: each has
+        // the corridor across its side leaving `v` (`corr[ci]`, whose chain
+        // on `B` starts at `v`) and the one across its side arriving at `v`
+        // (`corr[ci − 1]`); consecutive ones share a corridor whose chain is
+        // empty at `v`
+        let leave = |s: &Kss, (ti, ci): (TriId, usize)| s.tris[ti.0 as usize].corr[ci];
+        let arrive = |s: &Kss, (ti, ci): (TriId, usize)| s.tris[ti.0 as usize].corr[(ci + 2) % 3];
+        let mut order: Vec<(TriId, usize)> = Vec::with_capacity(at_v.len());
+        if !at_v.is_empty() {
+            let firsts: Vec<(TriId, usize)> = at_v
+                .iter()
+                .copied()
+                .filter(|&x| {
+                    self.chain_len_on(leave(self, x), body)
+                        .is_some_and(|l| l > 0)
+                })
+                .collect();
+            let [first] = firsts[..] else {
+                return self.pop_only(shapes, b, k);
+            };
+            let mut cur = first;
+            loop {
+                order.push(cur);
+                let next = arrive(self, cur);
+                if self.chain_len_on(next, body).is_none_or(|l| l > 0) || order.len() > at_v.len() {
+                    break;
+                }
+                match at_v.iter().copied().find(|&x| leave(self, x) == next) {
+                    Some(x) => cur = x,
+                    None => break,
+                }
+            }
+            if order.len() != at_v.len() {
+                return self.pop_only(shapes, b, k);
+            }
+        }
+        // the pop
+        let Some(m) = shapes.per[b.index()]
+            .as_mut()
+            .and_then(|ap| ap.array.pop(&mut ap.exposed, k))
+        else {
+            return PopResult::NotPopped;
+        };
+        let ap = shapes.approx(b).expect("popped");
+        let mside = Att::vertex(b, m as u32);
+        let kside = if ap.hidden(k) {
+            Att::vertex(b, ap.next_visible(k) as u32)
+        } else {
+            a
+        };
+        let iside = if ap.hidden(i) { mside } else { a_i };
+        let geo = Geo {
+            world,
+            shapes: &*shapes,
+        };
+        let count = geo.count(b);
+        // what to restore if a candidate fails
+        let mut tri_ids: Vec<TriId> = at_v.iter().chain(&at_i).map(|&(ti, _)| ti).collect();
+        tri_ids.sort();
+        tri_ids.dedup();
+        let mut corr_ids: Vec<CorrId> = chains.iter().map(|r| r.corr).collect();
+        for &ti in &tri_ids {
+            corr_ids.extend(self.tris[ti.0 as usize].corr);
+        }
+        corr_ids.sort();
+        corr_ids.dedup();
+        let saved_tris: Vec<PartitionTriangle> = tri_ids
+            .iter()
+            .map(|ti| self.tris[ti.0 as usize].clone())
+            .collect();
+        let saved_corrs: Vec<Corridor> = corr_ids
+            .iter()
+            .map(|k| self.corrs[k.0 as usize].clone())
+            .collect();
+        let remap = |x: Att, rec: &ChainRec, new_start: Att, new_end: Att| -> Att {
+            if x == a {
+                if rec.start == a {
+                    new_start
+                } else if rec.end == a {
+                    new_end
+                } else {
+                    kside
+                }
+            } else if x == a_i {
+                iside
+            } else {
+                x
+            }
+        };
+        let candidates = order.len() + 1;
+        for j in 0..candidates {
+            for (n, &(ti, ci)) in order.iter().enumerate() {
+                self.tris[ti.0 as usize].c[ci] = if n < j { mside } else { kside };
+            }
+            for &(ti, ci) in &at_i {
+                self.tris[ti.0 as usize].c[ci] = iside;
+            }
+            let mut ok = true;
+            for rec in &chains {
+                let (a_s, b_s, a_t, b_t) = self.ends(rec.corr);
+                let (start, end) = if rec.on_a { (a_s, a_t) } else { (b_t, b_s) };
+                let Some(d) = geo.cw_distance(start, end, count) else {
+                    ok = false;
+                    break;
+                };
+                let len = nearest(d, count, rec.len);
+                let c = &mut self.corrs[rec.corr.0 as usize];
+                if rec.on_a {
+                    c.len_a = len;
+                } else {
+                    c.len_b = len;
+                }
+                if let Some((alpha, beta, mi, mj)) = rec.mid {
+                    let (x, old_off) = if rec.on_a { (alpha, mi) } else { (beta, mj) };
+                    let x = remap(x, rec, start, end);
+                    let off = geo
+                        .cw_distance(start, x, count)
+                        .map(|d| nearest(d, count, old_off).min(len));
+                    let c = &mut self.corrs[rec.corr.0 as usize];
+                    c.mid = off.map(|o| if rec.on_a { (o, mj) } else { (mi, o) });
+                }
+            }
+            if ok && self.pop_valid_before(&geo, &corr_ids, &tri_ids, t) {
+                let mut ids = vec![a, a_i, mside, kside];
+                ids.sort();
+                ids.dedup();
+                return PopResult::Local {
+                    corrs: corr_ids,
+                    tris: tri_ids,
+                    ids,
+                };
+            }
+            for (n, ti) in tri_ids.iter().enumerate() {
+                self.tris[ti.0 as usize] = saved_tris[n].clone();
+            }
+            for (n, k) in corr_ids.iter().enumerate() {
+                self.corrs[k.0 as usize] = saved_corrs[n].clone();
+            }
+        }
+        PopResult::Failed
+    }
+
+    /// Pop in `shapes` only (the structure is left for a rebuild).
+    fn pop_only(&self, shapes: &mut Shapes, b: crate::world::BodyId, k: usize) -> PopResult {
+        match shapes.per[b.index()]
+            .as_mut()
+            .and_then(|ap| ap.array.pop(&mut ap.exposed, k))
+        {
+            Some(_) => PopResult::Failed,
+            None => PopResult::NotPopped,
+        }
+    }
+
+    /// Whether the touched corridors have pseudo-triangle faces (setting
+    /// their middle bridges), and the touched partition triangles and hull
+    /// turns hold, just before `t`.
+    fn pop_valid_before(&mut self, geo: &Geo, corrs: &[CorrId], tris: &[TriId], t: &Time) -> bool {
+        let holds = |p: [Att; 3]| {
+            let lp = |x: Att| geo.point(x);
+            orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).sign_before(t) == Sign::Positive
+        };
+        for &ti in tris {
+            let c = self.tris[ti.0 as usize].c;
+            if !c.iter().any(|x| x.is_omega()) && !holds(c) {
+                return false;
+            }
+            // three corners on three objects
+            if c[0].obj == c[1].obj || c[1].obj == c[2].obj || c[0].obj == c[2].obj {
+                return false;
+            }
+        }
+        for &k in corrs {
+            let c = &self.corrs[k.0 as usize];
+            if c.b == Obj::Omega {
+                let hull_ok = self.hull_turns(geo, k).into_iter().all(|(p, _)| {
+                    let lp = |x: Att| geo.point(x);
+                    orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).sign_before(t) != Sign::Negative
+                });
+                if !hull_ok {
+                    return false;
+                }
+                continue;
+            }
+            if c.len_a == 0 && c.len_b == 0 {
+                self.corrs[k.0 as usize].mid = None;
+                continue;
+            }
+            let hint = c.mid;
+            if self.decompose(geo, k, t, hint, Side::Before).is_none() {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nearest;
+
+    #[test]
+    fn nearest_length_prefers_the_closer_wrap() {
+        assert_eq!(nearest(0, 10, 0), 0);
+        assert_eq!(nearest(0, 10, 10), 10);
+        assert_eq!(nearest(1, 10, 0), 1);
+        assert_eq!(nearest(9, 10, 10), 9);
+        assert_eq!(nearest(0, 11, 10), 11);
+    }
+}
