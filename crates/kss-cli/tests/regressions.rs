@@ -2,11 +2,9 @@
 //! kinetic structure disagree with the brute-force reference or fail its
 //! audit (most are minimized degenerate `bounce` runs: grazing contacts,
 //! sliding along a common line, flight-plan changes that lift a sliding
-//! contact). Each must give byte-identical output with `brute` and `plain
-//! --audit`. (`hierarchical` is checked on the generated families in
-//! `crates/kss/tests/plain_vs_brute.rs`; its first version rebuilds after
-//! every refinement, which cannot yet happen while two polygons slide along
-//! each other.)
+//! contact; a pop at an instant where the motions change; approximation
+//! vertices of several bodies on one line). Each must give byte-identical
+//! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -44,5 +42,11 @@ fn regression_scenarios_agree_with_the_reference() {
         let want = run(f, "brute");
         assert!(!want.is_empty(), "{}: no collision to check", f.display());
         assert_eq!(run(f, "plain"), want, "{} with plain", f.display());
+        assert_eq!(
+            run(f, "hierarchical"),
+            want,
+            "{} with hierarchical",
+            f.display()
+        );
     }
 }

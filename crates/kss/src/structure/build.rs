@@ -74,10 +74,14 @@ pub fn build(world: &Geo, t: &Rational) -> Result<Kss, BuildError> {
         ));
     }
     // All finite triangles, oriented CCW exactly.
-    let mut tris: Vec<[usize; 3]> = Vec::with_capacity(cdt.num_inner_faces());
+    let raw: Vec<[usize; 3]> = cdt
+        .inner_faces()
+        .map(|f| f.vertices().map(|h| h.fix().index()))
+        .collect();
+    let raw = split_flat_triangles(raw, &exact)?;
+    let mut tris: Vec<[usize; 3]> = Vec::with_capacity(raw.len());
     let mut directed: HashMap<(usize, usize), ()> = HashMap::new();
-    for f in cdt.inner_faces() {
-        let [u, v, w] = f.vertices().map(|h| h.fix().index());
+    for [u, v, w] in raw {
         let tri = match orient(&exact[u], &exact[v], &exact[w]) {
             Sign::Positive => [u, v, w],
             Sign::Negative => [u, w, v],
@@ -201,6 +205,53 @@ pub fn build(world: &Geo, t: &Rational) -> Result<Kss, BuildError> {
     Ok(kss)
 }
 
+/// Remove the triangles that are flat for the exact coordinates. Rounding to
+/// doubles can make three points of one line a thin triangle: the
+/// hierarchy's approximation vertices are rationals, and bodies with edges
+/// on a common line put several vertices on it. A flat triangle `(u, v, w)`
+/// with `v` between `u` and `w` is removed by splitting its long side at
+/// `v`: the triangle across that side, `(w, u, x)`, becomes `(u, v, x)` and
+/// `(v, w, x)`; on the hull there is no such triangle and the hull runs
+/// through `v`.
+fn split_flat_triangles(
+    mut tris: Vec<[usize; 3]>,
+    exact: &[Point],
+) -> Result<Vec<[usize; 3]>, BuildError> {
+    let flat = |t: &[usize; 3]| orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]) == Sign::Zero;
+    // `m` strictly between `a` and `b` on their line
+    let between = |a: usize, m: usize, b: usize| {
+        exact[a].sub(&exact[m]).dot(&exact[b].sub(&exact[m])).sign() == Sign::Negative
+    };
+    for _ in 0..4 * tris.len() + 16 {
+        let Some(fi) = tris.iter().position(flat) else {
+            return Ok(tris);
+        };
+        let [p, q, r] = tris[fi];
+        let (u, v, w) = if between(q, p, r) {
+            (q, p, r)
+        } else if between(p, q, r) {
+            (p, q, r)
+        } else if between(p, r, q) {
+            (p, r, q)
+        } else {
+            return Err(BuildError::Rounding(
+                "a triangle with coincident corners".into(),
+            ));
+        };
+        tris.swap_remove(fi);
+        if let Some(gi) = tris.iter().position(|t| t.contains(&u) && t.contains(&w)) {
+            let g = tris.swap_remove(gi);
+            let x = *g
+                .iter()
+                .find(|&&y| y != u && y != w)
+                .expect("a triangle has three corners");
+            tris.push([u, v, x]);
+            tris.push([v, w, x]);
+        }
+    }
+    Err(BuildError::Rounding("a flat triangle".into()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -272,5 +323,28 @@ mod larger_tests {
                 ..Default::default()
             }));
         }
+    }
+
+    fn pt(x: i64, y: i64) -> Point {
+        Point::from_f64([x as f64, y as f64]).expect("finite")
+    }
+
+    #[test]
+    fn a_flat_triangle_is_split_at_its_middle_point() {
+        // u, v, w on one line; x above it
+        let exact = [pt(0, 0), pt(1, 0), pt(2, 0), pt(1, 1)];
+        let out = split_flat_triangles(vec![[0, 1, 2], [2, 0, 3]], &exact).unwrap();
+        assert_eq!(out.len(), 2);
+        for t in &out {
+            assert_ne!(orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]), Sign::Zero);
+            assert!(t.contains(&1) && t.contains(&3));
+        }
+        // on the hull: dropped
+        assert!(split_flat_triangles(vec![[0, 1, 2]], &exact)
+            .unwrap()
+            .is_empty());
+        // coincident corners are an error
+        let same = [pt(0, 0), pt(0, 0), pt(2, 0)];
+        assert!(split_flat_triangles(vec![[0, 1, 2]], &same).is_err());
     }
 }

@@ -465,7 +465,10 @@ impl Kinetic {
     ) -> Result<(bool, bool), String> {
         let (corrs, tris, ids) = match self.kss.pop_vertex(world, shapes, a, t) {
             super::pop::PopResult::NotPopped => return Ok((false, true)),
-            super::pop::PopResult::Failed => return Ok((true, false)),
+            super::pop::PopResult::Failed => {
+                trace!("pop of {a:?} at {} not local: rebuilding", t.to_f64());
+                return Ok((true, false));
+            }
             super::pop::PopResult::Local { corrs, tris, ids } => (corrs, tris, ids),
         };
         let geo = Geo {
@@ -493,7 +496,8 @@ impl Kinetic {
         }
         for o in &owners {
             if let Owner::Corr(k) = *o {
-                if self.kss.normalize(&geo, k, t, None).is_err() {
+                if let Err(_e) = self.kss.normalize(&geo, k, t, None) {
+                    trace!("pop of {a:?}: {_e}; rebuilding");
                     return Ok((true, false));
                 }
             }

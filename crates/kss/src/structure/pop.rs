@@ -24,8 +24,11 @@
 //! instant the old approximations were disjoint and the structure valid, so
 //! a correct local update is valid there too; the certificates that fail at
 //! the instant itself (the two approximations still touch where the pop was
-//! not enough) are then ordinary events of the instant. If no candidate
-//! holds, the structure is left unchanged and the caller rebuilds.
+//! not enough) are then ordinary events of the instant. When the motions
+//! changed at the instant (a flight-plan change or a collision response),
+//! "before" under the new motions means nothing, and the candidates are
+//! tried again just *after* the instant. If no candidate holds, the
+//! structure is left unchanged and the caller rebuilds.
 //!
 //! Cost: one scan of the triangles and corridors to find the ones on `B`
 //! (O(k)), and walks along `B`'s chains (O(|S_B|)), per candidate; no
@@ -197,6 +200,12 @@ impl Kss {
                 })
                 .collect();
             let [first] = firsts[..] else {
+                #[cfg(feature = "trace")]
+                eprintln!(
+                    "pop {a:?}: {} triangles, {} leave on a chain",
+                    at_v.len(),
+                    firsts.len()
+                );
                 return self.pop_only(shapes, b, k);
             };
             let mut cur = first;
@@ -212,8 +221,23 @@ impl Kss {
                 }
             }
             if order.len() != at_v.len() {
+                #[cfg(feature = "trace")]
+                eprintln!(
+                    "pop {a:?}: {} triangles, {} in order",
+                    at_v.len(),
+                    order.len()
+                );
                 return self.pop_only(shapes, b, k);
             }
+        }
+        #[cfg(feature = "trace")]
+        {
+            let mut copy = self.clone();
+            let ids: Vec<CorrId> = chains.iter().map(|r| r.corr).collect();
+            eprintln!(
+                "pop {a:?}: old structure valid before t: {}",
+                copy.pop_valid(&old, &ids, &[], t, Side::Before)
+            );
         }
         // the pop
         let Some(m) = shapes.per[b.index()]
@@ -235,6 +259,16 @@ impl Kss {
             shapes: &*shapes,
         };
         let count = geo.count(b);
+        #[cfg(feature = "trace")]
+        {
+            eprintln!(
+                "pop {a:?}: i {i} m {m} kside {:?} iside {:?} count {count}, order {order:?}, at_i {at_i:?}",
+                kside.v, iside.v
+            );
+            for r in &chains {
+                eprintln!("  chain {r:?} corr {:?}", self.corrs[r.corr.0 as usize]);
+            }
+        }
         // what to restore if a candidate fails
         let mut tri_ids: Vec<TriId> = at_v.iter().chain(&at_i).map(|&(ti, _)| ti).collect();
         tri_ids.sort();
@@ -269,7 +303,10 @@ impl Kss {
             }
         };
         let candidates = order.len() + 1;
-        for j in 0..candidates {
+        for (side, j) in [Side::Before, Side::After]
+            .into_iter()
+            .flat_map(|side| (0..candidates).map(move |j| (side, j)))
+        {
             for (n, &(ti, ci)) in order.iter().enumerate() {
                 self.tris[ti.0 as usize].c[ci] = if n < j { mside } else { kside };
             }
@@ -301,7 +338,9 @@ impl Kss {
                     c.mid = off.map(|o| if rec.on_a { (o, mj) } else { (mi, o) });
                 }
             }
-            if ok && self.pop_valid_before(&geo, &corr_ids, &tri_ids, t) {
+            #[cfg(feature = "trace")]
+            eprintln!("pop {a:?} candidate {j}/{candidates} {side:?}: lengths ok {ok}");
+            if ok && self.pop_valid(&geo, &corr_ids, &tri_ids, t, side) {
                 let mut ids = vec![a, a_i, mside, kside];
                 ids.sort();
                 ids.dedup();
@@ -334,15 +373,29 @@ impl Kss {
 
     /// Whether the touched corridors have pseudo-triangle faces (setting
     /// their middle bridges), and the touched partition triangles and hull
-    /// turns hold, just before `t`.
-    fn pop_valid_before(&mut self, geo: &Geo, corrs: &[CorrId], tris: &[TriId], t: &Time) -> bool {
-        let holds = |p: [Att; 3]| {
+    /// turns hold, just on `side` of `t`.
+    fn pop_valid(
+        &mut self,
+        geo: &Geo,
+        corrs: &[CorrId],
+        tris: &[TriId],
+        t: &Time,
+        side: Side,
+    ) -> bool {
+        let sign = |p: [Att; 3]| {
             let lp = |x: Att| geo.point(x);
-            orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).sign_before(t) == Sign::Positive
+            let poly = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2]));
+            match side {
+                Side::Before => poly.sign_before(t),
+                Side::After => poly.sign_after(t),
+            }
         };
+        let holds = |p: [Att; 3]| sign(p) == Sign::Positive;
         for &ti in tris {
             let c = self.tris[ti.0 as usize].c;
             if !c.iter().any(|x| x.is_omega()) && !holds(c) {
+                #[cfg(feature = "trace")]
+                eprintln!("  triangle {} does not hold before t: {c:?}", ti.0);
                 return false;
             }
             // three corners on three objects
@@ -353,11 +406,13 @@ impl Kss {
         for &k in corrs {
             let c = &self.corrs[k.0 as usize];
             if c.b == Obj::Omega {
-                let hull_ok = self.hull_turns(geo, k).into_iter().all(|(p, _)| {
-                    let lp = |x: Att| geo.point(x);
-                    orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).sign_before(t) != Sign::Negative
-                });
+                let hull_ok = self
+                    .hull_turns(geo, k)
+                    .into_iter()
+                    .all(|(p, _)| sign(p) != Sign::Negative);
                 if !hull_ok {
+                    #[cfg(feature = "trace")]
+                    eprintln!("  hull turns of corridor {} fail before t", k.0);
                     return false;
                 }
                 continue;
@@ -367,7 +422,12 @@ impl Kss {
                 continue;
             }
             let hint = c.mid;
-            if self.decompose(geo, k, t, hint, Side::Before).is_none() {
+            if self.decompose(geo, k, t, hint, side).is_none() {
+                #[cfg(feature = "trace")]
+                eprintln!(
+                    "  corridor {} has no decomposition before t: {:?}",
+                    k.0, self.corrs[k.0 as usize]
+                );
                 return false;
             }
         }
