@@ -646,8 +646,13 @@ impl Kinetic {
         if pairs.is_empty() {
             return None;
         }
+        // a vertex inside an approximation edge where the polygons
+        // certainly do not meet: no contact test for that pair (it costs
+        // O(n) and would make every pop as dear as the polygons are large)
+        let apart = super::events::real_touch_excluded(world, &p, t);
         let colliding: Vec<(BodyId, BodyId)> = pairs
             .into_iter()
+            .filter(|&(a, b)| apart != Some((a, b)) && apart != Some((b, a)))
             .filter(|&(a, b)| collides(a, b, t))
             .collect();
         if !colliding.is_empty() {

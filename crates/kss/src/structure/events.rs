@@ -193,6 +193,75 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
     None
 }
 
+/// For a triple whose vertex `w` lies at time `t` strictly inside an
+/// approximation edge `(x, y)` of another body, the pair of bodies if their
+/// polygons certainly do not touch there, decided in O(1) without the
+/// pair's contact test: the edge's line `L` supports both approximations,
+/// so the polygons can only meet on `L`; if `w`'s neighbours are off `L`,
+/// `w` is the only point of its approximation on it, and the polygons touch
+/// only if `w` is a real vertex lying on the real part of the edge (the
+/// base segment of the edge's entry in the hierarchy). `None` when this
+/// cannot be decided so (no approximation, an irrational instant, two
+/// vertices meeting, or approximations sliding along `L`).
+pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
+    let r = t.as_rational()?;
+    let pos = |a: Att| world.position(a, r);
+    let pts = [pos(p[0])?, pos(p[1])?, pos(p[2])?];
+    if crate::geom::orient(&pts[0], &pts[1], &pts[2]) != crate::num::Sign::Zero {
+        return None;
+    }
+    let strictly_between = |m: usize, a: usize, b: usize| {
+        pts[a].sub(&pts[m]).dot(&pts[b].sub(&pts[m])).sign() == crate::num::Sign::Negative
+    };
+    let m = (0..3).find(|&m| strictly_between(m, (m + 1) % 3, (m + 2) % 3))?;
+    let (w, x, y) = (p[m], p[(m + 1) % 3], p[(m + 2) % 3]);
+    if w.obj == x.obj || x.obj != y.obj {
+        return None;
+    }
+    // the edge runs counter-clockwise from `x` to `y` (or the other way)
+    // and lies on the line of `x`'s entry
+    let x = if world.ccw(x) == y {
+        x
+    } else if world.ccw(y) == x {
+        y
+    } else {
+        return None;
+    };
+    let (Obj::Body(u), Obj::Body(v)) = (w.obj, x.obj) else {
+        return None;
+    };
+    let ap = world.shapes.approx(v)?;
+    world.shapes.approx(u)?;
+    let (px, py) = (&pts[(m + 1) % 3], &pts[(m + 2) % 3]);
+    // `w` alone on the line among its approximation's vertices
+    for nb in [world.ccw(w), world.cw(w, 1)] {
+        let q = pos(nb)?;
+        if crate::geom::orient(px, py, &q) == crate::num::Sign::Zero {
+            return None;
+        }
+    }
+    let apart = Some((u, v));
+    if !world.is_real(w) {
+        return apart;
+    }
+    // the real part of the edge: entry `x`'s base segment, moved to `t`
+    let body = world.body(v);
+    let k = x.v as usize;
+    let at = |i: usize| body.vertex_at(i, r);
+    let (s0, s1) = (
+        at(ap.array.base_vertex_of_entry_start(k)),
+        at(ap.array.base_vertex_of_entry_end(k)),
+    );
+    let wp = &pts[m];
+    let outside = |a: &crate::geom::Point, b: &crate::geom::Point| {
+        wp.sub(a).dot(&b.sub(a)).sign() == crate::num::Sign::Negative
+    };
+    if outside(&s0, &s1) || outside(&s1, &s0) || (s0 == s1 && *wp != s0) {
+        return apart;
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
