@@ -93,6 +93,10 @@ pub struct RunStats {
     /// Times the hierarchical structure was rebuilt because a pop could not
     /// be done in place (0 for `plain` and `brute`).
     pub refine_rebuilds: u64,
+    /// Approximation vertices merged away where polygons moved apart
+    /// (coarsening; 0 for `plain` and `brute`). Not certificate failures,
+    /// so not counted in `events_processed`.
+    pub merges: u64,
 }
 
 /// Why a run could not complete.
@@ -300,6 +304,10 @@ trait Engine {
     /// degenerate instants, and when a pop could not be done in place.
     fn rebuilds(&self) -> (u64, u64, u64) {
         (0, 0, 0)
+    }
+    /// Approximation vertices merged away (coarsening).
+    fn merges(&self) -> u64 {
+        0
     }
 }
 
@@ -635,6 +643,11 @@ impl Engine for KineticEngine {
                         rebuilt_now = false;
                         last = Some(t.clone());
                     }
+                    if contacts.is_empty() && refine_at.is_none() {
+                        self.k
+                            .coarsen(world, &mut self.shapes, &t)
+                            .map_err(RunError::Internal)?;
+                    }
                     if self.audit && contacts.is_empty() {
                         self.audit_now(world, &t)?;
                     }
@@ -722,7 +735,12 @@ impl Engine for KineticEngine {
             .filter(|(k, _)| {
                 !matches!(
                     **k,
-                    "repair" | "rebuild" | "degenerate_rebuild" | "refine_rebuild" | "local_pop"
+                    "repair"
+                        | "rebuild"
+                        | "degenerate_rebuild"
+                        | "refine_rebuild"
+                        | "local_pop"
+                        | "merge"
                 )
             })
             .map(|(k, v)| (k.to_string(), *v))
@@ -736,6 +754,10 @@ impl Engine for KineticEngine {
             get("degenerate_rebuild"),
             get("refine_rebuild"),
         )
+    }
+
+    fn merges(&self) -> u64 {
+        self.k.counts.get("merge").copied().unwrap_or(0)
     }
 }
 
@@ -863,6 +885,7 @@ fn drive(
         stats.degenerate_rebuilds,
         stats.refine_rebuilds,
     ) = engine.rebuilds();
+    stats.merges = engine.merges();
     stats.collisions = collisions;
     stats.max_number_bits = max_bits;
     Ok(stats)

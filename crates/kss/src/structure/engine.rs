@@ -64,6 +64,10 @@ pub struct Kinetic {
     broken: Option<&'static str>,
     /// Internal events by kind.
     pub counts: BTreeMap<&'static str, u64>,
+    /// The corridors the last operation touched (where coarsening is tried).
+    last_touched: Vec<CorrId>,
+    /// Rotates the coarsening candidates.
+    tick: u64,
 }
 
 /// The certificate function of `c`, oriented so that it is positive while
@@ -871,10 +875,70 @@ impl Kinetic {
         for tri in out.tris {
             self.refresh(world, Owner::Tri(tri), t)?;
         }
-        for k in corrs {
+        for &k in &corrs {
             self.refresh(world, Owner::Corr(k), t)?;
         }
+        self.last_touched = corrs;
         Ok(())
+    }
+
+    /// Coarsen the approximations (in `shapes`) where the last operation
+    /// touched the structure: one merge candidate per touched corridor
+    /// ([`Kss::coarsen_one`]); the merged corridor is normalized and the
+    /// certificates on the moved vertex recomputed. Returns the number of
+    /// merges.
+    pub fn coarsen(
+        &mut self,
+        world: &crate::world::World,
+        shapes: &mut super::geo::Shapes,
+        t: &Time,
+    ) -> Result<u64, String> {
+        let mut merges = 0;
+        for k in std::mem::take(&mut self.last_touched) {
+            self.tick = self.tick.wrapping_add(1);
+            let Some(q) = self.kss.coarsen_one(world, shapes, k, t, self.tick) else {
+                continue;
+            };
+            merges += 1;
+            let geo = Geo {
+                world,
+                shapes: &*shapes,
+            };
+            self.kss.normalize(&geo, k, t, None)?;
+            let Obj::Body(b) = q.obj else {
+                continue;
+            };
+            let on_q: Vec<[Att; 3]> = self
+                .by_body
+                .get(&b)
+                .into_iter()
+                .flatten()
+                .filter(|p| p.contains(&q))
+                .copied()
+                .collect();
+            let mut owners: BTreeSet<Owner> = BTreeSet::from([Owner::Corr(k)]);
+            for p in &on_q {
+                if let Some(s) = self.certs.get(p) {
+                    owners.extend(s.owners.iter().copied());
+                }
+            }
+            for o in owners {
+                self.refresh(&geo, o, t)?;
+            }
+            let moved: Vec<[Att; 3]> = self
+                .by_body
+                .get(&b)
+                .into_iter()
+                .flatten()
+                .filter(|p| p.contains(&q))
+                .copied()
+                .collect();
+            for p in &moved {
+                self.reschedule(&geo, p, t);
+            }
+        }
+        *self.counts.entry("merge").or_default() += merges;
+        Ok(merges)
     }
 
     /// The earliest scheduled failure, if any.

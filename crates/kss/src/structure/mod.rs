@@ -27,6 +27,7 @@
 pub mod audit;
 pub mod build;
 pub mod certs;
+pub mod coarsen;
 pub mod engine;
 pub mod events;
 pub mod faces;

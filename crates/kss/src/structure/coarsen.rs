@@ -1,0 +1,270 @@
+//! Coarsening: undoing a pop where the polygons have moved apart again, so
+//! that long runs and repeated encounters stay cheap (the paper's Fig. 9
+//! shows the hierarchy shifting; it gives no rule, the one here follows
+//! `shared/design/algorithm.md` B.6).
+//!
+//! Id `k` of body `B` may leave the exposed set when `[p, k]` and `[k, q]`
+//! are the two halves of one dyadic block (`p`, `q` its exposed neighbours:
+//! the merge exactly undoes the pop that inserted `k`) and the turn from
+//! `L_p` to `L_q` is acute ([`crate::hier::EdgeArray::merge_ok`]). Then the
+//! vertices `A = av(p, k)` (id `k`) and `C = av(k, q)` (id `q`) give way to
+//! `Z = av(p, q)` (id `q`): the approximation grows by the triangle
+//! `(A, Z, C)`.
+//!
+//! In the structure, `k` and `q` must both be interior vertices of one
+//! corridor chain that carry no middle bridge (nothing else is attached to
+//! them), so the merge only shortens that chain by one edge and moves `q`.
+//! It is done when the grown triangle, scaled by 2 about the midpoint of
+//! `A C` (hysteresis: a margin as large as the triangle itself), meets
+//! nothing of that corridor (the other chain, the end-edges, the middle
+//! bridge, or for a hull corridor the hull bridges), decided exactly at the
+//! current instant, and the corridor's faces are pseudo-triangles just
+//! after it (else the merge is undone). Only a few candidates are tried per
+//! event (a rotating position along the chains of the corridors the event
+//! touched), so the cost per event stays O(chain length).
+
+use super::faces::{step_ccw, step_cw};
+use super::geo::{Geo, Shapes};
+use super::{Att, CorrId, Kss, Obj};
+use crate::geom::{orient, Point};
+use crate::num::{Rational, Sign, Time};
+use crate::world::World;
+
+/// Whether the closed segment `(p, q)` and the closed triangle `t` (counter-
+/// clockwise) meet: no separating line among the triangle's edge lines and
+/// the segment's line.
+fn segment_meets_triangle(p: &Point, q: &Point, t: &[Point; 3]) -> bool {
+    for i in 0..3 {
+        let (a, b) = (&t[i], &t[(i + 1) % 3]);
+        if orient(a, b, p) == Sign::Negative && orient(a, b, q) == Sign::Negative {
+            return false;
+        }
+    }
+    let sides: Vec<Sign> = t.iter().map(|x| orient(p, q, x)).collect();
+    if p != q
+        && (sides.iter().all(|&s| s == Sign::Positive)
+            || sides.iter().all(|&s| s == Sign::Negative))
+    {
+        return false;
+    }
+    true
+}
+
+/// `x` scaled by 2 about `m`.
+fn double_about(m: &Point, x: &Point) -> Point {
+    m.add(
+        &x.sub(m)
+            .scale(&Rational::from_int(crate::num::Int::from(2))),
+    )
+}
+
+impl Kss {
+    /// Try to merge away one interior vertex of corridor `k`'s chains, the
+    /// `tick`-th candidate in chain order (module docs). Returns the merged
+    /// vertex's body and the id whose position changed (`q`), or `None`.
+    pub fn coarsen_one(
+        &mut self,
+        world: &World,
+        shapes: &mut Shapes,
+        k: CorrId,
+        t: &Time,
+        tick: u64,
+    ) -> Option<Att> {
+        let r = t.as_rational()?.clone();
+        let c = self.corrs[k.0 as usize].clone();
+        let (a_s, b_s, a_t, b_t) = self.ends(k);
+        // candidate chains: A from a_s (len_a), B from b_t (len_b)
+        let mut chains: Vec<(Att, u32, bool)> = vec![(a_s, c.len_a, true)];
+        if c.b != Obj::Omega {
+            chains.push((b_t, c.len_b, false));
+        }
+        let total: u32 = chains.iter().map(|&(_, l, _)| l.saturating_sub(2)).sum();
+        if total == 0 {
+            return None;
+        }
+        // the `tick`-th interior position with both `k` and `q = ccw(k)`
+        // strictly inside the chain: cw offsets 2..len from the start
+        let mut n = (tick % u64::from(total)) as u32;
+        let (start, _, on_a) = chains
+            .iter()
+            .copied()
+            .find(|&(_, l, _)| {
+                let here = l.saturating_sub(2);
+                if n < here {
+                    true
+                } else {
+                    n -= here;
+                    false
+                }
+            })
+            .expect("a chain with the position");
+        let d = n + 2; // offset of `k` from the chain's start
+        let (kv, qv, bid) = {
+            let geo = Geo {
+                world,
+                shapes: &*shapes,
+            };
+            let kv = step_cw(&geo, start, d);
+            let qv = step_ccw(&geo, kv);
+            let Obj::Body(bid) = kv.obj else {
+                return None;
+            };
+            (kv, qv, bid)
+        };
+        if let Some((mi, mj)) = c.mid {
+            let geo = Geo {
+                world,
+                shapes: &*shapes,
+            };
+            let alpha = step_cw(&geo, a_s, mi);
+            let beta = step_cw(&geo, b_t, mj);
+            if [alpha, beta].iter().any(|x| *x == kv || *x == qv) {
+                return None;
+            }
+        }
+        let ap = shapes.approx(bid)?;
+        let kk = kv.v as usize;
+        let (p, q) = (ap.exposed.pred(kk)?, ap.exposed.succ(kk)?);
+        if q != qv.v as usize || ap.hidden(kk) || ap.hidden(p) || ap.hidden(q) {
+            return None;
+        }
+        if !ap.array.merge_ok(&ap.exposed, kk) {
+            return None;
+        }
+        // positions at `t`: A (id k), C (id q) now; Z (id q) after
+        let body = world.body(bid);
+        let at =
+            |h: crate::hier::HomPoint| body.traj.position_at(&r).add(&h.to_point(body.shape.exp()));
+        let pa = at(ap.array.av(p, kk)?);
+        let pc = at(ap.array.av(kk, q)?);
+        let pz = at(ap.array.av(p, q)?);
+        let m = pa
+            .add(&pc)
+            .scale(&Rational::from_dyadic(crate::num::Int::from(1), -1));
+        let big = [
+            double_about(&m, &pa),
+            double_about(&m, &pc),
+            double_about(&m, &pz),
+        ];
+        let big = if orient(&big[0], &big[1], &big[2]) == Sign::Negative {
+            [big[0].clone(), big[2].clone(), big[1].clone()]
+        } else {
+            big
+        };
+        if orient(&big[0], &big[1], &big[2]) == Sign::Zero {
+            return None;
+        }
+        // everything of the corridor but the merged chain
+        let geo = Geo {
+            world,
+            shapes: &*shapes,
+        };
+        let pos = |x: Att| geo.position(x, &r);
+        let mut segs: Vec<(Att, Att)> = Vec::new();
+        if c.b == Obj::Omega {
+            let x = self.other_finite_corner(c.s.0, a_s);
+            let y = self.other_finite_corner(c.t.0, a_t);
+            segs.push((a_s, x));
+            segs.push((a_t, y));
+        } else {
+            segs.push((a_s, b_s));
+            segs.push((a_t, b_t));
+            if let Some((mi, mj)) = c.mid {
+                segs.push((step_cw(&geo, a_s, mi), step_cw(&geo, b_t, mj)));
+            }
+            let (other, olen) = if on_a { (b_t, c.len_b) } else { (a_s, c.len_a) };
+            let mut x = other;
+            for _ in 0..olen {
+                let y = step_cw(&geo, x, 1);
+                segs.push((x, y));
+                x = y;
+            }
+            if olen == 0 {
+                segs.push((other, other));
+            }
+        }
+        for (u, v) in segs {
+            let (Some(pu), Some(pv)) = (pos(u), pos(v)) else {
+                return None;
+            };
+            if segment_meets_triangle(&pu, &pv, &big) {
+                return None;
+            }
+        }
+        // merge, re-measure the chain and check the faces just after `t`
+        let saved = self.corrs[k.0 as usize].clone();
+        let mid_before = c.mid;
+        {
+            let ap = shapes.per[bid.index()].as_mut()?;
+            if !ap.array.merge(&mut ap.exposed, kk) {
+                return None;
+            }
+        }
+        let undo = |shapes: &mut Shapes| {
+            if let Some(ap) = shapes.per[bid.index()].as_mut() {
+                ap.exposed.insert(kk);
+            }
+        };
+        {
+            let ap = shapes.approx(bid).expect("merged");
+            if ap.hidden(p) || ap.hidden(q) {
+                undo(shapes);
+                return None;
+            }
+        }
+        let cm = &mut self.corrs[k.0 as usize];
+        if on_a {
+            cm.len_a -= 1;
+        } else {
+            cm.len_b -= 1;
+        }
+        if let Some((mi, mj)) = mid_before {
+            // `k` at offset `d` from the start: a bridge end beyond it moves
+            // one step closer
+            cm.mid = Some(if on_a {
+                (if mi > d { mi - 1 } else { mi }, mj)
+            } else {
+                (mi, if mj > d { mj - 1 } else { mj })
+            });
+        }
+        let geo = Geo {
+            world,
+            shapes: &*shapes,
+        };
+        let ok = if c.b == Obj::Omega {
+            self.hull_turns(&geo, k)
+                .into_iter()
+                .all(|(p3, _)| super::local::turn(&geo, p3[0], p3[1], p3[2], t) == Sign::Positive)
+        } else {
+            let mid = self.corrs[k.0 as usize].mid;
+            self.faces_valid(&geo, k, mid, t)
+        };
+        if !ok {
+            self.corrs[k.0 as usize] = saved;
+            undo(shapes);
+            return None;
+        }
+        Some(qv)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pt(x: i64, y: i64) -> Point {
+        Point::from_f64([x as f64, y as f64]).expect("finite")
+    }
+
+    #[test]
+    fn segments_and_triangles() {
+        let t = [pt(0, 0), pt(4, 0), pt(0, 4)];
+        assert!(segment_meets_triangle(&pt(1, 1), &pt(9, 9), &t));
+        assert!(segment_meets_triangle(&pt(-1, 2), &pt(5, 2), &t));
+        assert!(!segment_meets_triangle(&pt(3, 3), &pt(9, 9), &t));
+        assert!(segment_meets_triangle(&pt(2, 2), &pt(9, 9), &t)); // touches
+        assert!(!segment_meets_triangle(&pt(-1, -1), &pt(-1, 9), &t));
+        assert!(!segment_meets_triangle(&pt(5, -1), &pt(-1, -2), &t));
+        assert!(segment_meets_triangle(&pt(1, 1), &pt(1, 1), &t));
+    }
+}
