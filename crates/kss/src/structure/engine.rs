@@ -151,6 +151,11 @@ fn contact_pairs(
     let Some(r) = t.as_rational() else {
         return v;
     };
+    // approximations touching where the polygons certainly do not: a
+    // refinement, not a contact to look around
+    if third.is_none() && super::events::real_touch_excluded(world, p, t).is_some() {
+        return v;
+    }
     let mut near: BTreeSet<BodyId> = BTreeSet::new();
     let mut add = |x: Att| {
         if let Obj::Body(b) = x.obj {
@@ -178,8 +183,24 @@ fn contact_pairs(
                 continue;
             }
             let (bx, by) = (world.body(x), world.body(y));
+            // bounding boxes first (widened outwards: rounding never hides
+            // a touch), the exact test only where they meet
+            let boxed = |body: &crate::world::Body| {
+                let [x0, x1, y0, y1] = body.shape.bounds();
+                let [px, py] = body.traj.position_at(r).to_f64();
+                let pad = |z: f64| z.abs() * 1e-9 + 1e-300;
+                [
+                    px + x0 - pad(px + x0),
+                    px + x1 + pad(px + x1),
+                    py + y0 - pad(py + y0),
+                    py + y1 + pad(py + y1),
+                ]
+            };
+            let (ex, ey) = (boxed(bx), boxed(by));
+            let boxes_meet = !(ex[1] < ey[0] || ey[1] < ex[0] || ex[3] < ey[2] || ey[3] < ex[2]);
             if bx.alive
                 && by.alive
+                && boxes_meet
                 && crate::geom::placed_polygons_intersect(
                     &bx.shape,
                     &bx.traj.position_at(r),
