@@ -31,8 +31,9 @@
 //! structure is left unchanged and the caller rebuilds.
 //!
 //! Cost: one scan of the triangles and corridors to find the ones on `B`
-//! (O(k)), and walks along `B`'s chains (O(|S_B|)), per candidate; no
-//! triangulation and no certificate outside the touched owners.
+//! (O(k)), walks along `B`'s chains (O(|S_B|)) to find the chains through
+//! `v`, and per candidate the decomposition of the few corridors around `v`;
+//! no triangulation and no certificate outside the touched owners.
 
 use super::geo::{Geo, Shapes};
 use super::local::Side;
@@ -169,6 +170,13 @@ impl Kss {
                 } else {
                     (b_t, b_s, c.len_b)
                 };
+                // only the chains through `v`, or ending at `i` (which may
+                // become hidden), change
+                let through = [start, end].iter().any(|&x| x == a || x == a_i)
+                    || old.cw_distance(start, a, len).is_some();
+                if !through {
+                    return None;
+                }
                 let mid = c
                     .mid
                     .map(|(mi, mj)| (old.cw(a_s, mi), old.cw(b_t, mj), mi, mj));
