@@ -148,9 +148,10 @@ impl<'a> Geo<'a> {
                 (a.v + n - (k % n)) % n
             }
             Some(ap) => {
-                let n = self.count(b) as usize;
+                // walking `k` steps round the cycle is walking `k mod n`
+                // (no O(|S|) count of the visible ids first)
                 let mut x = a.v as usize;
-                for _ in 0..(k as usize % n) {
+                for _ in 0..k {
                     x = ap.prev_visible(x);
                 }
                 x as u32
