@@ -1082,4 +1082,71 @@ mod tests {
         }
         assert!(audited > 150, "{audited}");
     }
+
+    /// Pops done in place at the start, one approximation vertex after
+    /// another, leave a structure that passes the full audit (certificates,
+    /// tiling, pseudo-triangles) after every pop.
+    #[test]
+    fn pops_in_place_keep_the_structure_valid() {
+        let (mut local, mut audited) = (0, 0);
+        for family in [Family::Gas, Family::Flypast, Family::Far] {
+            for seed in 0..12 {
+                let s = generate_small(family, seed);
+                let world = World::new(&s, None).unwrap();
+                let mut shapes = crate::structure::refine::coarsest_shapes(&world);
+                crate::structure::refine::separate_all_at(&world, &mut shapes, &Rational::zero())
+                    .unwrap();
+                let geo = Geo {
+                    world: &world,
+                    shapes: &shapes,
+                };
+                let mut k = Kinetic::new(&geo, &Rational::zero()).unwrap();
+                let now = Time::zero();
+                for round in 0..24 {
+                    // the `round`-th approximation vertex of all bodies
+                    let geo = Geo {
+                        world: &world,
+                        shapes: &shapes,
+                    };
+                    let verts: Vec<Att> = (0..world.len())
+                        .flat_map(|b| {
+                            let b = BodyId(b as u32);
+                            geo.ids(b).into_iter().map(move |v| Att::vertex(b, v))
+                        })
+                        .filter(|&a| !geo.is_real(a))
+                        .collect();
+                    if verts.is_empty() {
+                        break;
+                    }
+                    let a = verts[(round * 7 + seed as usize) % verts.len()];
+                    let (changed, followed) = k.pop_local(&world, &mut shapes, a, &now).unwrap();
+                    assert!(changed, "{a:?} was not popped");
+                    if !followed {
+                        break; // the structure would be rebuilt
+                    }
+                    local += 1;
+                    let geo = Geo {
+                        world: &world,
+                        shapes: &shapes,
+                    };
+                    let Some(next) = k.next_time().cloned() else {
+                        continue;
+                    };
+                    if next == now {
+                        break; // a failure at once: the engine would handle it
+                    }
+                    let at = now.rational_between(&next);
+                    k.audit(&geo, &now, &at).unwrap_or_else(|e| {
+                        panic!("{} seed {seed} pop {round} of {a:?}: {e}", family.name())
+                    });
+                    crate::structure::refine::check_apart(&world, &shapes, &at).unwrap();
+                    audited += 1;
+                }
+            }
+        }
+        assert!(
+            local > 100 && audited > 100,
+            "{local} local pops, {audited} audited"
+        );
+    }
 }
