@@ -3,7 +3,8 @@
 //! audit (most are minimized degenerate `bounce` runs: grazing contacts,
 //! sliding along a common line, flight-plan changes that lift a sliding
 //! contact; a pop at an instant where the motions change; approximation
-//! vertices of several bodies on one line). Each must give byte-identical
+//! vertices of several bodies on one line; a merge of a vertex that a
+//! certificate still named). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};

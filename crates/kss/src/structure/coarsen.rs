@@ -60,8 +60,10 @@ fn double_about(m: &Point, x: &Point) -> Point {
 
 impl Kss {
     /// Try to merge away one interior vertex of corridor `k`'s chains, the
-    /// `tick`-th candidate in chain order (module docs). Returns the merged
-    /// vertex's body and the id whose position changed (`q`), or `None`.
+    /// `tick`-th candidate in chain order (module docs), unless `busy(k, q)`
+    /// (certificates that name the vertex to remove, or that fail at this
+    /// instant on the one to move). Returns the id whose position changed
+    /// (`q`), or `None`.
     pub fn coarsen_one(
         &mut self,
         world: &World,
@@ -69,6 +71,7 @@ impl Kss {
         k: CorrId,
         t: &Time,
         tick: u64,
+        busy: &dyn Fn(Att, Att) -> bool,
     ) -> Option<Att> {
         let r = t.as_rational()?.clone();
         let c = self.corrs[k.0 as usize].clone();
@@ -121,6 +124,11 @@ impl Kss {
             if [alpha, beta].iter().any(|x| *x == kv || *x == qv) {
                 return None;
             }
+        }
+        // a certificate still names `k`, or one on `q` fails at this
+        // instant: not now
+        if busy(kv, qv) {
+            return None;
         }
         let ap = shapes.approx(bid)?;
         let kk = kv.v as usize;

@@ -917,7 +917,24 @@ impl Kinetic {
         let mut merges = 0;
         for k in std::mem::take(&mut self.last_touched) {
             self.tick = self.tick.wrapping_add(1);
-            let Some(q) = self.kss.coarsen_one(world, shapes, k, t, self.tick) else {
+            let (by_body, certs, queue) = (&self.by_body, &self.certs, &self.queue);
+            let busy = |kv: Att, qv: Att| {
+                let Obj::Body(b) = kv.obj else {
+                    return true;
+                };
+                by_body.get(&b).is_some_and(|set| {
+                    set.iter().any(|p| {
+                        p.contains(&kv)
+                            || (p.contains(&qv)
+                                && certs.get(p).is_none_or(|s| {
+                                    s.key.is_none_or(|key| {
+                                        queue.get(key).is_some_and(|(tq, _)| tq == t)
+                                    })
+                                }))
+                    })
+                })
+            };
+            let Some(q) = self.kss.coarsen_one(world, shapes, k, t, self.tick, &busy) else {
                 continue;
             };
             merges += 1;
