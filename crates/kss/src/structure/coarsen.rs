@@ -19,7 +19,9 @@
 //! nothing of that corridor (the other chain, the end-edges, the middle
 //! bridge, or for a hull corridor the hull bridges), decided exactly at the
 //! current instant, and the corridor's faces are pseudo-triangles just
-//! after it (else the merge is undone). Only a few candidates are tried per
+//! after it (else the merge is undone). It is not tried while a
+//! certificate still names `k` or one on `q` fails at the instant. Only a
+//! few candidates are tried per
 //! event (a rotating position along the chains of the corridors the event
 //! touched), so the cost per event stays O(chain length).
 
