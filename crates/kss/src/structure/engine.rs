@@ -475,6 +475,45 @@ impl Kinetic {
         Ok(())
     }
 
+    /// The certificates on body `b` that name one of `ids`.
+    fn certs_naming(&self, b: BodyId, ids: &[Att]) -> Vec<[Att; 3]> {
+        self.by_body
+            .get(&b)
+            .into_iter()
+            .flatten()
+            .filter(|p| p.iter().any(|x| ids.contains(x)))
+            .copied()
+            .collect()
+    }
+
+    /// The owners of the certificates on body `b` that name one of `ids`.
+    fn owners_naming(&self, b: BodyId, ids: &[Att]) -> BTreeSet<Owner> {
+        self.certs_naming(b, ids)
+            .iter()
+            .filter_map(|p| self.certs.get(p))
+            .flat_map(|s| s.owners.iter().copied())
+            .collect()
+    }
+
+    /// After vertices `ids` of body `b` changed place (a pop or a merge):
+    /// recompute the certificates of `owners`, then schedule again every
+    /// certificate still naming one of `ids` (its points moved).
+    fn refresh_moved(
+        &mut self,
+        geo: &Geo,
+        (b, ids): (BodyId, &[Att]),
+        owners: BTreeSet<Owner>,
+        t: &Time,
+    ) -> Result<(), String> {
+        for o in owners {
+            self.refresh(geo, o, t)?;
+        }
+        for p in &self.certs_naming(b, ids) {
+            self.reschedule(geo, p, t);
+        }
+        Ok(())
+    }
+
     /// Pop approximation vertex `a` (in `shapes`) at `t` and update the
     /// structure in place ([`Kss::pop_vertex`]): the touched corridors are
     /// normalized and their owners' certificates, and every certificate on a
@@ -504,21 +543,9 @@ impl Kinetic {
             unreachable!("a popped vertex is on a body")
         };
         // every certificate on a changed vertex, and its owners
-        let stale: Vec<[Att; 3]> = self
-            .by_body
-            .get(&b)
-            .into_iter()
-            .flatten()
-            .filter(|p| p.iter().any(|x| ids.contains(x)))
-            .copied()
-            .collect();
-        let mut owners: BTreeSet<Owner> = corrs.iter().map(|&k| Owner::Corr(k)).collect();
+        let mut owners = self.owners_naming(b, &ids);
+        owners.extend(corrs.iter().map(|&k| Owner::Corr(k)));
         owners.extend(tris.iter().map(|&t| Owner::Tri(t)));
-        for p in &stale {
-            if let Some(s) = self.certs.get(p) {
-                owners.extend(s.owners.iter().copied());
-            }
-        }
         for o in &owners {
             if let Owner::Corr(k) = *o {
                 if let Err(_e) = self.kss.normalize(&geo, k, t, None) {
@@ -527,20 +554,7 @@ impl Kinetic {
                 }
             }
         }
-        for o in owners {
-            self.refresh(&geo, o, t)?;
-        }
-        let moved: Vec<[Att; 3]> = self
-            .by_body
-            .get(&b)
-            .into_iter()
-            .flatten()
-            .filter(|p| p.iter().any(|x| ids.contains(x)))
-            .copied()
-            .collect();
-        for p in &moved {
-            self.reschedule(&geo, p, t);
-        }
+        self.refresh_moved(&geo, (b, &ids), owners, t)?;
         *self.counts.entry("local_pop").or_default() += 1;
         Ok((true, true))
     }
@@ -946,34 +960,9 @@ impl Kinetic {
             let Obj::Body(b) = q.obj else {
                 continue;
             };
-            let on_q: Vec<[Att; 3]> = self
-                .by_body
-                .get(&b)
-                .into_iter()
-                .flatten()
-                .filter(|p| p.contains(&q))
-                .copied()
-                .collect();
-            let mut owners: BTreeSet<Owner> = BTreeSet::from([Owner::Corr(k)]);
-            for p in &on_q {
-                if let Some(s) = self.certs.get(p) {
-                    owners.extend(s.owners.iter().copied());
-                }
-            }
-            for o in owners {
-                self.refresh(&geo, o, t)?;
-            }
-            let moved: Vec<[Att; 3]> = self
-                .by_body
-                .get(&b)
-                .into_iter()
-                .flatten()
-                .filter(|p| p.contains(&q))
-                .copied()
-                .collect();
-            for p in &moved {
-                self.reschedule(&geo, p, t);
-            }
+            let mut owners = self.owners_naming(b, &[q]);
+            owners.insert(Owner::Corr(k));
+            self.refresh_moved(&geo, (b, &[q]), owners, t)?;
         }
         *self.counts.entry("merge").or_default() += merges;
         Ok(merges)

@@ -101,6 +101,22 @@ impl Kss {
         }
     }
 
+    /// The partition-triangle corners at each of two vertices, as
+    /// `(triangle, corner index)`, in one scan of the triangles.
+    fn corners_at(&self, v: [Att; 2]) -> [Vec<(TriId, usize)>; 2] {
+        let mut out = [Vec::new(), Vec::new()];
+        for (ti, tr) in self.tris.iter().enumerate() {
+            for (ci, c) in tr.c.iter().enumerate() {
+                for (n, x) in v.iter().enumerate() {
+                    if c == x {
+                        out[n].push((TriId(ti as u32), ci));
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// Pop approximation vertex `a` in `shapes` and update the structure in
     /// place for the instants just before `t` (module docs).
     pub fn pop_vertex(
@@ -136,26 +152,7 @@ impl Kss {
         }
         let a_i = Att::vertex(b, i as u32);
         // the triangles with a corner at `v`, and every corridor along `B`
-        let at_v: Vec<(TriId, usize)> = self
-            .tris
-            .iter()
-            .enumerate()
-            .filter_map(|(ti, tr)| {
-                tr.c.iter()
-                    .position(|&c| c == a)
-                    .map(|ci| (TriId(ti as u32), ci))
-            })
-            .collect();
-        let at_i: Vec<(TriId, usize)> = self
-            .tris
-            .iter()
-            .enumerate()
-            .filter_map(|(ti, tr)| {
-                tr.c.iter()
-                    .position(|&c| c == a_i)
-                    .map(|ci| (TriId(ti as u32), ci))
-            })
-            .collect();
+        let [at_v, at_i] = self.corners_at([a, a_i]);
         let chains: Vec<ChainRec> = (0..self.corrs.len())
             .filter_map(|ki| {
                 let kid = CorrId(ki as u32);
