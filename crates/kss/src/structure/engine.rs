@@ -142,6 +142,7 @@ fn contact_pairs(
     p: &[Att; 3],
     t: &Time,
     (a, b, third): (BodyId, BodyId, Option<BodyId>),
+    apart: Option<(BodyId, BodyId)>,
 ) -> Vec<(BodyId, BodyId)> {
     let mut v = vec![(a, b)];
     if let Some(c) = third {
@@ -153,7 +154,7 @@ fn contact_pairs(
     };
     // approximations touching where the polygons certainly do not: a
     // refinement, not a contact to look around
-    if third.is_none() && super::events::real_touch_excluded(world, p, t).is_some() {
+    if third.is_none() && apart.is_some() {
         return v;
     }
     let mut near: BTreeSet<BodyId> = BTreeSet::new();
@@ -649,14 +650,19 @@ impl Kinetic {
         );
         if tie == 0 {
             let cert = s.cert;
-            let pairs = match classify(world, &cert, &t) {
+            let (pairs, apart) = match classify(world, &cert, &t) {
                 Failure::Contact { a, b, third } => {
                     let owners = s.owners.clone();
-                    contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third))
+                    let apart = super::events::real_touch_excluded(world, &p, &t);
+                    let pairs =
+                        contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
+                    (pairs, apart)
                 }
-                Failure::Between { .. } => nearby_contact(world, &p, &t).into_iter().collect(),
+                Failure::Between { .. } => {
+                    (nearby_contact(world, &p, &t).into_iter().collect(), None)
+                }
             };
-            if let Some(step) = self.touch(world, p, &t, pairs, collides) {
+            if let Some(step) = self.touch(world, p, &t, pairs, apart, collides) {
                 return Ok(step);
             }
             // not a contact, or a touch that is not a collision: a
@@ -674,21 +680,22 @@ impl Kinetic {
     /// contact if some pair collides by the driver's rule (`collides`), else
     /// a refinement if the triple has an approximation vertex; `None` for a
     /// structural failure (no touch, or a touch that is not a collision).
+    /// `apart` is a pair whose polygons certainly do not meet there
+    /// ([`super::events::real_touch_excluded`]): it gets no contact test
+    /// (that costs O(n) and would make every pop as dear as the polygons
+    /// are large).
     fn touch(
         &mut self,
         world: &Geo,
         p: [Att; 3],
         t: &Time,
         pairs: Vec<(BodyId, BodyId)>,
+        apart: Option<(BodyId, BodyId)>,
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Option<Step> {
         if pairs.is_empty() {
             return None;
         }
-        // a vertex inside an approximation edge where the polygons
-        // certainly do not meet: no contact test for that pair (it costs
-        // O(n) and would make every pop as dear as the polygons are large)
-        let apart = super::events::real_touch_excluded(world, &p, t);
         let colliding: Vec<(BodyId, BodyId)> = pairs
             .into_iter()
             .filter(|&(a, b)| apart != Some((a, b)) && apart != Some((b, a)))
@@ -814,8 +821,9 @@ impl Kinetic {
         );
         let mut failure = classify(world, &cert, &t);
         if let Failure::Contact { a, b, third } = failure {
-            let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third));
-            if let Some(step) = self.touch(world, p, &t, pairs, collides) {
+            let apart = super::events::real_touch_excluded(world, &p, &t);
+            let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
+            if let Some(step) = self.touch(world, p, &t, pairs, apart, collides) {
                 return Ok(step);
             }
             // two polygons touch but do not collide (they slid along each
