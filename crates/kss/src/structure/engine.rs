@@ -184,17 +184,19 @@ fn contact_pairs(
                 continue;
             }
             let (bx, by) = (world.body(x), world.body(y));
-            // bounding boxes first (widened outwards: rounding never hides
-            // a touch), the exact test only where they meet
+            // bounding boxes first, the exact test only where they meet;
+            // widened outwards by far more than the rounding of the position
+            // and of the sum (relative to the larger term, so that
+            // cancellation cannot hide a touch)
             let boxed = |body: &crate::world::Body| {
                 let [x0, x1, y0, y1] = body.shape.bounds();
                 let [px, py] = body.traj.position_at(r).to_f64();
-                let pad = |z: f64| z.abs() * 1e-9 + 1e-300;
+                let pad = |a: f64, b: f64| (a.abs() + b.abs()) * 1e-9 + 1e-300;
                 [
-                    px + x0 - pad(px + x0),
-                    px + x1 + pad(px + x1),
-                    py + y0 - pad(py + y0),
-                    py + y1 + pad(py + y1),
+                    px + x0 - pad(px, x0),
+                    px + x1 + pad(px, x1),
+                    py + y0 - pad(py, y0),
+                    py + y1 + pad(py, y1),
                 ]
             };
             let (ex, ey) = (boxed(bx), boxed(by));
