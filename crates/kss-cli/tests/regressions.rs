@@ -4,7 +4,9 @@
 //! sliding along a common line, flight-plan changes that lift a sliding
 //! contact; a pop at an instant where the motions change; approximation
 //! vertices of several bodies on one line; a merge of a vertex that a
-//! certificate still named). Each must give byte-identical
+//! certificate still named; a sliding pair whose flight plan changes at an
+//! instant with another collision; an approximation edge left sliding along
+//! a real vertex after a pop, or after a bounce). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};

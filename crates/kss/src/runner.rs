@@ -378,10 +378,17 @@ struct KineticEngine {
     /// after the collision response).
     contact_instant: Option<(Time, u32)>,
     /// The pairs that had a collision response at the latest instant with
-    /// one (`bounce` mode): a later failure between them at that instant is
-    /// a collision again only if they still interpenetrate just after it.
-    responded: Option<(Time, Vec<(BodyId, BodyId)>)>,
+    /// one (`bounce` mode), and the bodies whose motion changed then (by a
+    /// response or a flight-plan change): as the reference recomputes these
+    /// pairs at that instant, a later failure of such a pair at it is a
+    /// collision only if they interpenetrate just after it (a contact that
+    /// began with the old motions was reported before the change).
+    responded: Option<Responded>,
 }
+
+/// The pairs that had a collision response at an instant and the bodies
+/// whose motion changed then (see [`KineticEngine::responded`]).
+type Responded = (Time, Vec<(BodyId, BodyId)>, Vec<BodyId>);
 
 impl KineticEngine {
     fn new(world: &World, audit: bool, hierarchical: bool) -> Result<KineticEngine, RunError> {
@@ -540,6 +547,64 @@ impl KineticEngine {
     }
 }
 
+impl KineticEngine {
+    /// After a collision response (hierarchy only): the pairs that collided
+    /// may now slide along each other, and an approximation edge may not
+    /// slide along a vertex of the other body, nor an approximation vertex
+    /// along an edge (see `refine::involved`), so those approximation
+    /// points are popped until only real points slide.
+    fn refine_responded(
+        &mut self,
+        world: &World,
+        t: &Time,
+        pairs: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        if self.shapes.per.is_empty() || pairs.is_empty() {
+            return Ok(());
+        }
+        let mut pops = 0u64;
+        let mut local = true;
+        let k = &mut self.k;
+        let mut popper = |shapes: &mut Shapes, a: Att| -> Result<bool, String> {
+            if local {
+                let (changed, followed) = k.pop_local(world, shapes, a, t)?;
+                local = followed;
+                Ok(changed)
+            } else {
+                Ok(refine::pop(shapes, a))
+            }
+        };
+        let r = t
+            .as_rational()
+            .ok_or_else(|| RunError::Internal("irrational collision time".into()))?;
+        for &(a, b) in pairs {
+            // a pair that still interpenetrates gets another response at
+            // this instant first
+            let again = || {
+                crate::brute::contact_interval(world, a, b, PairMethod::Fast).next_contact(r)
+                    == Some(r.clone())
+            };
+            if world.body(a).alive && world.body(b).alive && !again() {
+                pops += refine::unslide_after(world, &mut self.shapes, (a, b), t, &mut popper)
+                    .map_err(RunError::Internal)?;
+            }
+        }
+        if pops > 0 {
+            *self.k.counts.entry("pop").or_default() += pops;
+        }
+        if !local {
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            self.k
+                .rebuild_after(&geo, t, "refine_rebuild")
+                .map_err(RunError::Internal)?;
+        }
+        Ok(())
+    }
+}
+
 impl Engine for KineticEngine {
     fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
         let mut contacts: Vec<(BodyId, BodyId)> = Vec::new();
@@ -575,9 +640,12 @@ impl Engine for KineticEngine {
                     return true;
                 };
                 let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
-                let answered = responded
-                    .as_ref()
-                    .is_some_and(|(rt, pairs)| rt == t && pairs.contains(&(a.min(b), a.max(b))));
+                let answered = responded.as_ref().is_some_and(|(rt, pairs, moved)| {
+                    rt == t
+                        && (pairs.contains(&(a.min(b), a.max(b)))
+                            || moved.contains(&a)
+                            || moved.contains(&b))
+                });
                 if answered {
                     return interval.next_contact(r).as_ref() == Some(r);
                 }
@@ -676,12 +744,13 @@ impl Engine for KineticEngine {
         bodies: &[BodyId],
         reported: &[(BodyId, BodyId)],
     ) -> Result<(), RunError> {
-        if !reported.is_empty() {
-            let pairs = reported.iter().map(|&(a, b)| (a.min(b), a.max(b)));
-            match &mut self.responded {
-                Some((t, v)) if t == now => v.extend(pairs),
-                r => *r = Some((now.clone(), pairs.collect())),
+        let pairs = reported.iter().map(|&(a, b)| (a.min(b), a.max(b)));
+        match &mut self.responded {
+            Some((t, v, moved)) if t == now => {
+                v.extend(pairs);
+                moved.extend_from_slice(bodies);
             }
+            r => *r = Some((now.clone(), pairs.collect(), bodies.to_vec())),
         }
         if bodies.iter().any(|&b| !world.body(b).alive) {
             let t = now
@@ -708,6 +777,7 @@ impl Engine for KineticEngine {
             self.k
                 .motion_changed(&geo, now, bodies)
                 .map_err(RunError::Internal)?;
+            self.refine_responded(world, now, reported)?;
         }
         Ok(())
     }

@@ -70,6 +70,22 @@ pub struct Kinetic {
     tick: u64,
 }
 
+impl Kinetic {
+    /// Every certificate with its owners and scheduled failure time (a
+    /// debugging view, in the order of their points).
+    pub fn certificate_list(&self) -> Vec<(Cert, Vec<Owner>, Option<Time>)> {
+        self.certs
+            .values()
+            .map(|s| {
+                let t = s
+                    .key
+                    .and_then(|k| self.queue.get(k).map(|(t, _)| t.clone()));
+                (s.cert, s.owners.clone(), t)
+            })
+            .collect()
+    }
+}
+
 /// The certificate function of `c`, oriented so that it is positive while
 /// the certificate holds.
 pub fn cert_poly(world: &Geo, c: &Cert) -> Poly {
@@ -962,6 +978,7 @@ impl Kinetic {
                 continue;
             };
             merges += 1;
+            trace!("merge at {} in {k:?}: {q:?} hidden", t.to_f64());
             let geo = Geo {
                 world,
                 shapes: &*shapes,

@@ -1,0 +1,37 @@
+//! Debugging aid: run a scenario with the kinetic structure (hierarchical
+//! unless `plain` is given) up to a time and print every certificate with
+//! its owners and failure time, and each body's exposed approximation.
+//!
+//! `cargo run -p kss-cli --example hier_dump -- SCENARIO.json TIME [plain]`
+use kss::{RunOptions, StructureKind};
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let s: kss::Scenario =
+        kss_cli::json::parse_scenario(&std::fs::read_to_string(&a[1]).unwrap()).unwrap();
+    let time: f64 = a[2].parse().unwrap();
+    let structure = if a.get(3).map(String::as_str) == Some("plain") {
+        StructureKind::Plain
+    } else {
+        StructureKind::Hierarchical
+    };
+    let options = RunOptions {
+        structure,
+        audit: true,
+        ..Default::default()
+    };
+    let state = kss::runner::plain_state_at(&s, &options, time).unwrap();
+    for (c, owners, t) in state.kinetic.certificate_list() {
+        println!(
+            "{:?} {:?} {:?} owners {:?} fails {:?}",
+            c.kind,
+            c.p.map(|p| (p.obj, p.v)),
+            c.sign,
+            owners,
+            t.map(|t| t.to_f64())
+        );
+    }
+    for (i, c) in state.kinetic.kss.corrs.iter().enumerate() {
+        println!("corridor {i}: {c:?}");
+    }
+}
