@@ -10,7 +10,7 @@
 //! [`orient_poly`] needs only integer arithmetic.
 
 use crate::geom::{BodyPolygon, Point};
-use crate::num::{lcm, Int, Poly, Rational};
+use crate::num::{lcm, Int, Interval, Poly, Rational};
 
 /// One linear piece of a body's path: `position(t) = origin + velocity·t`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -52,7 +52,7 @@ impl Trajectory {
 /// A body's current trajectory in integer form, ready to produce moving
 /// vertices: vertex `i` is `((ox + m·X_i + vx·t)/w, (oy + m·Y_i + vy·t)/w)`
 /// where `(X_i, Y_i)` are the body polygon's integer coordinates.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
     ox: Int,
     oy: Int,
@@ -60,6 +60,8 @@ pub struct Frame {
     vy: Int,
     m: Int,
     w: Int,
+    /// Enclosures of `ox, oy, vx, vy, m, w` (the f64 filter's view).
+    iv: [Interval; 6],
 }
 
 impl Frame {
@@ -87,6 +89,7 @@ impl Frame {
             m = w.clone();
             w <<= s;
         }
+        let iv = [&ox, &oy, &vx, &vy, &m, &w].map(Interval::of_int);
         Frame {
             ox,
             oy,
@@ -94,7 +97,28 @@ impl Frame {
             vy,
             m,
             w,
+            iv,
         }
+    }
+
+    /// An enclosure of the world position at a time in `t` of the
+    /// body-frame point `(x/hw, y/hw)` given by enclosures of its
+    /// homogeneous integer coordinates (`hw` positive; `None` for 1), on the
+    /// grid of this frame's body polygon: the f64 filter's view of
+    /// [`Frame::homogeneous`]. Never decides anything by itself.
+    pub fn enclose(
+        &self,
+        x: Interval,
+        y: Interval,
+        hw: Option<Interval>,
+        t: Interval,
+    ) -> [Interval; 2] {
+        let [ox, oy, vx, vy, m, w] = self.iv;
+        let (bx, by) = match hw {
+            None => (m * x, m * y),
+            Some(h) => (m * (x / h), m * (y / h)),
+        };
+        [(ox + bx + vx * t) / w, (oy + by + vy * t) / w]
     }
 
     /// The moving world position of body vertex `i`.

@@ -167,6 +167,7 @@ fn slides_on_edge(world: &Geo, u: Att, w: Att, t: &Time) -> bool {
 /// certificates may all report "beyond the end". `t` must be rational (such
 /// certificates are linear).
 pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
+    let tiv = t.interval();
     let t = t.as_rational()?;
     // the vertex z of one body and an edge endpoint x of the other
     let (z, x) = (0..3).find_map(|i| {
@@ -176,6 +177,9 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
     let near = |a: Att| [world.cw(a, 1), a, world.ccw(a)];
     let pos = |a: Att| super::build::position(world, a, t).expect("finite");
     let touches = |u: Att, e0: Att, e1: Att| {
+        if world.orient_filtered(e0, e1, u, tiv).is_some() {
+            return false;
+        }
         let (pu, p0, p1) = (pos(u), pos(e0), pos(e1));
         crate::geom::orient(&p0, &p1, &pu) == crate::num::Sign::Zero
             && p0.sub(&pu).dot(&p1.sub(&pu)).sign() != crate::num::Sign::Positive

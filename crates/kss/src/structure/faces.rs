@@ -17,6 +17,9 @@ pub fn turn_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> Sign {
         Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("turn_after on ω"),
     };
+    if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
+        return s;
+    }
     orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t)
 }
 

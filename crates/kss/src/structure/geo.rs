@@ -16,7 +16,7 @@ use super::{Att, Obj};
 use crate::geom::Point;
 use crate::hier::{EdgeArray, Exposed};
 use crate::motion::LinearPoint;
-use crate::num::Rational;
+use crate::num::{Interval, Rational, Sign};
 use crate::world::{BodyId, World};
 
 /// A body seen through its outer approximation.
@@ -235,6 +235,53 @@ impl<'a> Geo<'a> {
                 h.moving(&body.frame)
             }
         }
+    }
+
+    /// An enclosure of `a`'s position at a time in `t` (the f64 filter of
+    /// the orientation tests; `None` for `ω`).
+    pub fn enclose(&self, a: Att, t: Interval) -> Option<[Interval; 2]> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let body = self.world.body(b);
+        match self.shapes.approx(b) {
+            None => {
+                let (x, y) = body.shape.int_vertex(a.v as usize);
+                Some(
+                    body.frame
+                        .enclose(Interval::of_int(x), Interval::of_int(y), None, t),
+                )
+            }
+            Some(ap) => {
+                let h = ap.array.vertex_of(&body.shape, &ap.exposed, a.v as usize)?;
+                let hw = (!h.w.is_one()).then(|| Interval::of_int(&h.w));
+                Some(
+                    body.frame
+                        .enclose(Interval::of_int(&h.x), Interval::of_int(&h.y), hw, t),
+                )
+            }
+        }
+    }
+
+    /// The sign of `orient(u, v, w)` at a time in `t` if the f64 filter
+    /// decides it and it is not zero (then it is also the sign just before
+    /// and just after that time); `None` otherwise.
+    pub fn orient_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
+        let [ux, uy] = self.enclose(u, t)?;
+        let [vx, vy] = self.enclose(v, t)?;
+        let [wx, wy] = self.enclose(w, t)?;
+        let d = (vx - ux) * (wy - uy) - (vy - uy) * (wx - ux);
+        d.sign().filter(|&s| s != Sign::Zero)
+    }
+
+    /// The sign of `(u − v)·(w − v)` at a time in `t` if the f64 filter
+    /// decides it and it is not zero; `None` otherwise.
+    pub fn dot_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
+        let [ux, uy] = self.enclose(u, t)?;
+        let [vx, vy] = self.enclose(v, t)?;
+        let [wx, wy] = self.enclose(w, t)?;
+        let d = (ux - vx) * (wx - vx) + (uy - vy) * (wy - vy);
+        d.sign().filter(|&s| s != Sign::Zero)
     }
 
     /// The exact position of `a` at rational time `t` (`None` for `ω`).

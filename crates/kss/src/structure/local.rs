@@ -91,6 +91,9 @@ fn lin(world: &Geo, a: Att) -> crate::motion::LinearPoint {
 
 /// The sign of `orient(u, v, w)` just on `side` of `t`.
 pub fn turn_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sign {
+    if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
+        return s;
+    }
     match side {
         Side::After => turn_after(world, u, v, w, t),
         Side::Before => crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w))
@@ -106,6 +109,9 @@ pub fn between_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
 
 /// Whether `v` is strictly between `u` and `w` just on `side` of `t`.
 pub fn between_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> bool {
+    if let Some(s) = world.dot_filtered(u, v, w, t.interval()) {
+        return s == Sign::Negative;
+    }
     let d = dot_poly(&lin(world, v), &lin(world, u), &lin(world, w));
     let s = match side {
         Side::After => d.sign_after(t),
