@@ -102,23 +102,13 @@ impl Frame {
     }
 
     /// An enclosure of the world position at a time in `t` of the
-    /// body-frame point `(x/hw, y/hw)` given by enclosures of its
-    /// homogeneous integer coordinates (`hw` positive; `None` for 1), on the
-    /// grid of this frame's body polygon: the f64 filter's view of
-    /// [`Frame::homogeneous`]. Never decides anything by itself.
-    pub fn enclose(
-        &self,
-        x: Interval,
-        y: Interval,
-        hw: Option<Interval>,
-        t: Interval,
-    ) -> [Interval; 2] {
+    /// body-frame point given by enclosures `x`, `y` of its coordinates on
+    /// the grid of this frame's body polygon (units `2^exp`): the f64
+    /// filter's view of [`Frame::homogeneous`]. Never decides anything by
+    /// itself.
+    pub fn enclose(&self, x: Interval, y: Interval, t: Interval) -> [Interval; 2] {
         let [ox, oy, vx, vy, m, w] = self.iv;
-        let (bx, by) = match hw {
-            None => (m * x, m * y),
-            Some(h) => (m * (x / h), m * (y / h)),
-        };
-        [(ox + bx + vx * t) / w, (oy + by + vy * t) / w]
+        [(ox + m * x + vx * t) / w, (oy + m * y + vy * t) / w]
     }
 
     /// The moving world position of body vertex `i`.

@@ -635,31 +635,31 @@ impl World {
             return ba.traj.position_at(t).add(&ba.centroid).to_f64();
         };
         let (na, nb) = (ba.shape.len(), bb.shape.len());
+        // every vertex position once (each candidate is tested against every edge)
+        let va: Vec<Point> = (0..na).map(|i| ba.vertex_at(i, t)).collect();
+        let vb: Vec<Point> = (0..nb).map(|j| bb.vertex_at(j, t)).collect();
         let mut candidates: Vec<Point> = Vec::new();
         for (source, other) in &c.features {
             match *source {
                 Ok(j) => {
-                    candidates.push(bb.vertex_at(j, t));
-                    candidates.push(bb.vertex_at((j + 1) % nb, t));
-                    candidates.push(ba.vertex_at(*other, t));
+                    candidates.push(vb[j].clone());
+                    candidates.push(vb[(j + 1) % nb].clone());
+                    candidates.push(va[*other].clone());
                 }
                 Err(i) => {
-                    candidates.push(ba.vertex_at(i, t));
-                    candidates.push(ba.vertex_at((i + 1) % na, t));
-                    candidates.push(bb.vertex_at(*other, t));
+                    candidates.push(va[i].clone());
+                    candidates.push(va[(i + 1) % na].clone());
+                    candidates.push(vb[*other].clone());
                 }
             }
         }
-        let inside = |body: &Body, p: &Point| {
-            let n = body.shape.len();
-            (0..n).all(|i| {
-                crate::geom::orient(&body.vertex_at(i, t), &body.vertex_at((i + 1) % n, t), p)
-                    != Sign::Negative
-            })
+        let inside = |vs: &[Point], p: &Point| {
+            let n = vs.len();
+            (0..n).all(|i| crate::geom::orient(&vs[i], &vs[(i + 1) % n], p) != Sign::Negative)
         };
         let on_both: Vec<[f64; 2]> = candidates
             .iter()
-            .filter(|p| inside(ba, p) && inside(bb, p))
+            .filter(|p| inside(&va, p) && inside(&vb, p))
             .map(|p| p.to_f64())
             .collect();
         if on_both.is_empty() {

@@ -6,7 +6,7 @@ use super::exposed::Exposed;
 use super::levels;
 use crate::geom::{BodyPolygon, Point};
 use crate::motion::{Frame, LinearPoint};
-use crate::num::{Int, Rational, Sign};
+use crate::num::{Int, Interval, Rational, Sign};
 
 /// One entry of an [`EdgeArray`]: the supporting line `nx·x + ny·y = c` of
 /// the polygon in the body's integer grid (the polygon lies in
@@ -479,6 +479,40 @@ impl EdgeArray {
             y: &a.nx * &b.c - &b.nx * &a.c,
             w,
         })
+    }
+
+    /// An enclosure of `av(i, j)` as `[x, y]` (the f64 filter's view; the
+    /// turn must be in `(0, π)`, else `None`).
+    pub fn av_enclose(&self, i: usize, j: usize) -> Option<[Interval; 2]> {
+        let (a, b) = (&self.entries[i], &self.entries[j]);
+        let f = |e: &Entry| [&e.nx, &e.ny, &e.c].map(Interval::of_int);
+        let ([anx, any, ac], [bnx, bny, bc]) = (f(a), f(b));
+        let w = anx * bny - any * bnx;
+        if w.lo <= 0.0 {
+            return None;
+        }
+        Some([(ac * bny - bc * any) / w, (anx * bc - bnx * ac) / w])
+    }
+
+    /// An enclosure of [`EdgeArray::vertex_of`] in the body's integer grid
+    /// coordinates, or `None` (not exposed, or the filter cannot tell).
+    pub fn vertex_enclose(
+        &self,
+        body: &BodyPolygon,
+        s: &Exposed,
+        k: usize,
+    ) -> Option<[Interval; 2]> {
+        if !s.contains(k) {
+            return None;
+        }
+        let i = s.pred(k)?;
+        match self.av_is_real(i, k) {
+            Some(v) => {
+                let (x, y) = body.int_vertex(v);
+                Some([Interval::of_int(x), Interval::of_int(y)])
+            }
+            None => self.av_enclose(i, k),
+        }
     }
 
     /// `Some(v)` if `av(i, j)` is the real base vertex `v`: entry `i` ends at

@@ -181,20 +181,32 @@ impl Poly {
     /// use [`Poly::first_root_after`] to see those too.
     pub fn first_failure_after(&self, t: &Time) -> Option<Time> {
         // The sign just after each root follows from the root structure, so
-        // no evaluation at a root (where the filter can never decide) is needed.
-        let roots = self.roots();
-        let c2 = Sign::of(&self.c[2]);
-        let after = |i: usize| match (self.degree(), roots.len()) {
-            (Some(1), _) => Sign::of(&self.c[1]),
-            (_, 1) => c2,            // double root: the sign of the leading term
-            _ if i == 0 => c2.neg(), // the smaller of two simple roots
-            _ => c2,
+        // no evaluation at a root (where the filter can never decide) is
+        // needed, and only the one root where the sign can turn non-positive
+        // is constructed.
+        let root = match self.degree() {
+            None | Some(0) => None,
+            // a linear function fails at its root only if it decreases
+            Some(1) => (Sign::of(&self.c[1]) == Sign::Negative)
+                .then(|| Time::from_rational(Rational::new(-self.c[0].clone(), self.c[1].clone()))),
+            Some(_) => {
+                let (c, b, a) = (&self.c[0], &self.c[1], &self.c[2]);
+                let d = b * b - Int::from(4) * a * c;
+                let opens_up = Sign::of(a) == Sign::Positive;
+                if d < Int::ZERO {
+                    None
+                } else if d.is_zero() {
+                    // a double root: positive just after it iff a > 0
+                    (!opens_up)
+                        .then(|| Time::from_rational(Rational::new(-b.clone(), Int::from(2) * a)))
+                } else {
+                    // two simple roots: the function turns negative after the
+                    // smaller one when a > 0, after the larger one when a < 0
+                    Some(Time::quadratic_root(a, b, c, !opens_up))
+                }
+            }
         };
-        roots
-            .iter()
-            .enumerate()
-            .find(|(i, r)| *r > t && after(*i) != Sign::Positive)
-            .map(|(_, r)| r.clone())
+        root.filter(|r| r > t)
     }
 }
 

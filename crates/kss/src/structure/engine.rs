@@ -1116,6 +1116,69 @@ mod tests {
         assert!(audited > 150, "{audited}");
     }
 
+    /// The f64 filter of the orientation and order tests never contradicts
+    /// the exact polynomials: on every triple of (real and approximation)
+    /// vertices of the degenerate families, where collinear points and
+    /// contacts at dyadic instants abound, at integer, dyadic and
+    /// non-dyadic instants.
+    #[test]
+    fn filtered_turns_agree_with_the_exact_ones() {
+        let (mut decided, mut undecided) = (0u64, 0u64);
+        for family in Family::ALL {
+            for seed in 0..6 {
+                let s = generate_small(family, seed);
+                let world = World::new(&s, None).unwrap();
+                for hierarchical in [false, true] {
+                    let mut shapes = crate::structure::geo::Shapes::default();
+                    if hierarchical {
+                        shapes = crate::structure::refine::coarsest_shapes(&world);
+                    }
+                    let geo = Geo {
+                        world: &world,
+                        shapes: &shapes,
+                    };
+                    let pts: Vec<Att> = (0..world.len().min(3))
+                        .flat_map(|b| {
+                            let b = crate::world::BodyId(b as u32);
+                            geo.ids(b).into_iter().map(move |v| Att::vertex(b, v))
+                        })
+                        .collect();
+                    for t in ["0", "1", "2", "0.375", "1/3", "7/5"] {
+                        let t = match t.split_once('/') {
+                            Some((p, q)) => Time::from_rational(Rational::new(
+                                p.parse::<i64>().unwrap().into(),
+                                q.parse::<i64>().unwrap().into(),
+                            )),
+                            None => Time::from_f64(t.parse().unwrap()).unwrap(),
+                        };
+                        let lp = |a: Att| geo.point(a);
+                        for (i, &u) in pts.iter().enumerate() {
+                            for &v in &pts[i + 1..] {
+                                for &w in pts.iter().step_by(3) {
+                                    let exact = crate::motion::orient_poly(&lp(u), &lp(v), &lp(w))
+                                        .sign_at(&t);
+                                    match geo.orient_filtered(u, v, w, t.interval()) {
+                                        Some(f) => {
+                                            assert_eq!(f, exact, "{u:?} {v:?} {w:?} at {t}");
+                                            decided += 1;
+                                        }
+                                        None => undecided += 1,
+                                    }
+                                    let dot =
+                                        crate::motion::dot_poly(&lp(v), &lp(u), &lp(w)).sign_at(&t);
+                                    if let Some(f) = geo.dot_filtered(u, v, w, t.interval()) {
+                                        assert_eq!(f, dot, "{u:?} {v:?} {w:?} at {t}");
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(decided > 1000 && undecided > 10, "{decided} {undecided}");
+    }
+
     /// Pops done in place at the start, one approximation vertex after
     /// another, leave a structure that passes the full audit (certificates,
     /// tiling, pseudo-triangles) after every pop.

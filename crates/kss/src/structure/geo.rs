@@ -249,16 +249,14 @@ impl<'a> Geo<'a> {
                 let (x, y) = body.shape.int_vertex(a.v as usize);
                 Some(
                     body.frame
-                        .enclose(Interval::of_int(x), Interval::of_int(y), None, t),
+                        .enclose(Interval::of_int(x), Interval::of_int(y), t),
                 )
             }
             Some(ap) => {
-                let h = ap.array.vertex_of(&body.shape, &ap.exposed, a.v as usize)?;
-                let hw = (!h.w.is_one()).then(|| Interval::of_int(&h.w));
-                Some(
-                    body.frame
-                        .enclose(Interval::of_int(&h.x), Interval::of_int(&h.y), hw, t),
-                )
+                let [x, y] = ap
+                    .array
+                    .vertex_enclose(&body.shape, &ap.exposed, a.v as usize)?;
+                Some(body.frame.enclose(x, y, t))
             }
         }
     }

@@ -169,11 +169,27 @@ pub fn unslide_after(
         let ring =
             |x: BodyId| -> Vec<Att> { geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect() };
         let lp = |x: Att| geo.point(x);
+        // the f64 filter on positions enclosed once: only triples that may
+        // be collinear at `t` are tested exactly
+        let (ra, rb) = (ring(a), ring(b));
+        let iv: std::collections::HashMap<Att, [crate::num::Interval; 2]> = ra
+            .iter()
+            .chain(&rb)
+            .filter_map(|&x| Some((x, geo.enclose(x, t.interval())?)))
+            .collect();
+        let filtered = |u: Att, v: Att, w: Att| {
+            let ([ux, uy], [vx, vy], [wx, wy]) = (iv.get(&u)?, iv.get(&v)?, iv.get(&w)?);
+            let d = (*vx - *ux) * (*wy - *uy) - (*vy - *uy) * (*wx - *ux);
+            d.sign().filter(|&s| s != Sign::Zero)
+        };
         let todo = sliding(
             &geo,
-            &ring(a),
-            &ring(b),
-            &|u, v, w| orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t),
+            &ra,
+            &rb,
+            &|u, v, w| {
+                filtered(u, v, w)
+                    .unwrap_or_else(|| orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t))
+            },
             &|u, v, w| dot_poly(&lp(w), &lp(u), &lp(v)).sign_after(t) != Sign::Positive,
         );
         if todo.is_empty() {
