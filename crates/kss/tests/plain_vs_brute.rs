@@ -55,7 +55,7 @@ fn plain_matches_brute_on_generic_families() {
 }
 
 #[test]
-#[ignore = "known failures: 3 of 1200 stop with an error where polygons graze and slide at one instant; the 100,000-scenario sweep also finds 39 disagreements at contacts at the instant of a flight-plan change (issue 3 open, see ARCHITECTURE.md)"]
+#[ignore = "known failures: 3 of 1200 stop with an error where polygons graze and slide at one instant and the fallback rebuild meets touching polygons (issue 3 open, see ARCHITECTURE.md)"]
 fn plain_matches_brute_on_degenerate_families() {
     let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
     assert!(
@@ -76,7 +76,7 @@ fn hierarchical_matches_brute_on_generic_families() {
 }
 
 #[test]
-#[ignore = "known failures: 5 of 1200 stop with an error where polygons graze and slide at one instant and the fallback rebuild meets touching polygons; the 100,000-scenario sweep also finds 39 disagreements, as for plain (issue 4 open)"]
+#[ignore = "known failures: 5 of 1200 stop with an error where polygons graze and slide at one instant and the fallback rebuild meets touching polygons (issue 4 open)"]
 fn hierarchical_matches_brute_on_degenerate_families() {
     sweep(&DEGENERATE, StructureKind::Hierarchical);
 }
