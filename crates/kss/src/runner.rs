@@ -491,17 +491,8 @@ impl KineticEngine {
         popped.dedup();
         // each pop updates the structure in place; once one cannot, the
         // rest only refine the approximations and the structure is rebuilt
-        let mut local = true;
-        let k = &mut self.k;
-        let mut popper = |shapes: &mut Shapes, a: Att| -> Result<bool, String> {
-            if local {
-                let (changed, followed) = k.pop_local(world, shapes, a, t)?;
-                local = followed;
-                Ok(changed)
-            } else {
-                Ok(refine::pop(shapes, a))
-            }
-        };
+        let mut pops_in = LocalPops::new(&mut self.k, world, t);
+        let mut popper = |shapes: &mut Shapes, a: Att| pops_in.pop(shapes, a);
         for a in popped {
             pops += u64::from(popper(&mut self.shapes, a).map_err(RunError::Internal)?);
         }
@@ -527,6 +518,7 @@ impl KineticEngine {
                 .map_err(RunError::Internal)?;
             }
         }
+        let local = pops_in.local;
         *self.k.counts.entry("pop").or_default() += pops;
         let geo = Geo {
             world,
@@ -547,6 +539,38 @@ impl KineticEngine {
     }
 }
 
+/// Pops of approximation vertices at instant `t`, each done in place in the
+/// structure until one cannot be; after that only the approximations
+/// change, and the caller rebuilds the structure (`local` is then false).
+struct LocalPops<'a> {
+    k: &'a mut Kinetic,
+    world: &'a World,
+    t: &'a Time,
+    local: bool,
+}
+
+impl<'a> LocalPops<'a> {
+    fn new(k: &'a mut Kinetic, world: &'a World, t: &'a Time) -> LocalPops<'a> {
+        LocalPops {
+            k,
+            world,
+            t,
+            local: true,
+        }
+    }
+
+    /// Pop `a`; whether the approximation changed.
+    fn pop(&mut self, shapes: &mut Shapes, a: Att) -> Result<bool, String> {
+        if self.local {
+            let (changed, followed) = self.k.pop_local(self.world, shapes, a, self.t)?;
+            self.local = followed;
+            Ok(changed)
+        } else {
+            Ok(refine::pop(shapes, a))
+        }
+    }
+}
+
 impl KineticEngine {
     /// After a collision response (hierarchy only): the pairs that collided
     /// may now slide along each other, and an approximation edge may not
@@ -563,17 +587,8 @@ impl KineticEngine {
             return Ok(());
         }
         let mut pops = 0u64;
-        let mut local = true;
-        let k = &mut self.k;
-        let mut popper = |shapes: &mut Shapes, a: Att| -> Result<bool, String> {
-            if local {
-                let (changed, followed) = k.pop_local(world, shapes, a, t)?;
-                local = followed;
-                Ok(changed)
-            } else {
-                Ok(refine::pop(shapes, a))
-            }
-        };
+        let mut pops_in = LocalPops::new(&mut self.k, world, t);
+        let mut popper = |shapes: &mut Shapes, a: Att| pops_in.pop(shapes, a);
         let r = t
             .as_rational()
             .ok_or_else(|| RunError::Internal("irrational collision time".into()))?;
@@ -589,6 +604,7 @@ impl KineticEngine {
                     .map_err(RunError::Internal)?;
             }
         }
+        let local = pops_in.local;
         if pops > 0 {
             *self.k.counts.entry("pop").or_default() += pops;
         }

@@ -15,11 +15,12 @@
 
 use std::sync::Arc;
 
+use super::faces::turn_after;
 use super::geo::{Approx, Geo, Shapes};
 use super::Att;
 use crate::geom::orient;
 use crate::hier::EdgeArray;
-use crate::motion::{dot_poly, orient_poly};
+use crate::motion::dot_poly;
 use crate::num::{Rational, Sign, Time};
 use crate::world::{BodyId, World};
 
@@ -52,6 +53,20 @@ pub fn pop(shapes: &mut Shapes, a: Att) -> bool {
     }
 }
 
+/// The vertices of body `x` as seen through its approximation, in order.
+fn ring(geo: &Geo, x: BodyId) -> Vec<Att> {
+    geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect()
+}
+
+/// Whether `w`, collinear with `u` and `v` just after `t`, lies on the
+/// closed segment `uv` just after `t` (filtered, then exact).
+fn on_segment_after(geo: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
+    // (u − w)·(v − w) <= 0
+    geo.dot_filtered(u, w, v, t.interval())
+        .unwrap_or_else(|| dot_poly(&geo.point(w), &geo.point(u), &geo.point(v)).sign_after(t))
+        != Sign::Positive
+}
+
 /// The approximation vertices to pop so that `a` and `b` come apart, or
 /// `None` if they are apart already; `sign(u, v, w)` is the orientation
 /// used (at an instant, or just after one).
@@ -73,9 +88,7 @@ fn involved(
     sign: &dyn Fn(Att, Att, Att) -> Sign,
     on_segment: Option<&dyn Fn(Att, Att, Att) -> bool>,
 ) -> Option<Vec<Att>> {
-    let ring =
-        |x: BodyId| -> Vec<Att> { geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect() };
-    let (pa, pb) = (ring(a), ring(b));
+    let (pa, pb) = (ring(geo, a), ring(geo, b));
     let real = |x: Att| geo.is_real(x);
     // a vertex on an edge's line that may stay there: off the edge, or a
     // real vertex sliding along a real edge
@@ -166,31 +179,12 @@ pub fn unslide_after(
     let mut pops = 0;
     loop {
         let geo = Geo { world, shapes };
-        let ring =
-            |x: BodyId| -> Vec<Att> { geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect() };
-        let lp = |x: Att| geo.point(x);
-        // the f64 filter on positions enclosed once: only triples that may
-        // be collinear at `t` are tested exactly
-        let (ra, rb) = (ring(a), ring(b));
-        let iv: std::collections::HashMap<Att, [crate::num::Interval; 2]> = ra
-            .iter()
-            .chain(&rb)
-            .filter_map(|&x| Some((x, geo.enclose(x, t.interval())?)))
-            .collect();
-        let filtered = |u: Att, v: Att, w: Att| {
-            let ([ux, uy], [vx, vy], [wx, wy]) = (iv.get(&u)?, iv.get(&v)?, iv.get(&w)?);
-            let d = (*vx - *ux) * (*wy - *uy) - (*vy - *uy) * (*wx - *ux);
-            d.sign().filter(|&s| s != Sign::Zero)
-        };
         let todo = sliding(
             &geo,
-            &ra,
-            &rb,
-            &|u, v, w| {
-                filtered(u, v, w)
-                    .unwrap_or_else(|| orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t))
-            },
-            &|u, v, w| dot_poly(&lp(w), &lp(u), &lp(v)).sign_after(t) != Sign::Positive,
+            &ring(&geo, a),
+            &ring(&geo, b),
+            &|u, v, w| turn_after(&geo, u, v, w, t),
+            &|u, v, w| on_segment_after(&geo, u, v, w, t),
         );
         if todo.is_empty() {
             return Ok(pops);
@@ -256,10 +250,8 @@ pub fn separate_after(
         world,
         shapes,
         (a, b),
-        &|geo, u, v, w| orient_poly(&geo.point(u), &geo.point(v), &geo.point(w)).sign_after(t),
-        Some(&|geo, u, v, w| {
-            dot_poly(&geo.point(w), &geo.point(u), &geo.point(v)).sign_after(t) != Sign::Positive
-        }),
+        &|geo, u, v, w| turn_after(geo, u, v, w, t),
+        Some(&|geo, u, v, w| on_segment_after(geo, u, v, w, t)),
         popper,
     )
 }
