@@ -6,7 +6,9 @@
 //! vertices of several bodies on one line; a merge of a vertex that a
 //! certificate still named; a sliding pair whose flight plan changes at an
 //! instant with another collision; an approximation edge left sliding along
-//! a real vertex after a pop, or after a bounce). Each must give byte-identical
+//! a real vertex after a pop, or after a bounce; a rebuild for just after an
+//! instant where two polygons slide along each other, or three meet at a
+//! point, which the builder could not triangulate). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};

@@ -54,9 +54,19 @@ fn plain_matches_brute_on_generic_families() {
     );
 }
 
+/// The degenerate families: same events as the reference, with the audit
+/// after every event, where the structure may rebuild at a degenerate
+/// instant (counted; bounded by the next test).
 #[test]
-#[ignore = "known failures: 3 of 1200 stop with an error where polygons graze and slide at one instant and the fallback rebuild meets touching polygons (issue 3 open, see ARCHITECTURE.md)"]
 fn plain_matches_brute_on_degenerate_families() {
+    sweep(&DEGENERATE, StructureKind::Plain);
+}
+
+/// The rebuilds at degenerate instants stay rare, so that the local
+/// operations are the rule.
+#[test]
+#[ignore = "known failure: 41 of the 1200 degenerate scenarios need a degenerate rebuild (the bound is 24); issue 3 open, see ARCHITECTURE.md"]
+fn plain_rebuilds_are_rare_on_degenerate_families() {
     let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
     assert!(
         rebuilds * 50 <= total as u64,
@@ -76,7 +86,6 @@ fn hierarchical_matches_brute_on_generic_families() {
 }
 
 #[test]
-#[ignore = "known failures: 5 of 1200 stop with an error where polygons graze and slide at one instant and the fallback rebuild meets touching polygons (issue 4 open)"]
 fn hierarchical_matches_brute_on_degenerate_families() {
     sweep(&DEGENERATE, StructureKind::Hierarchical);
 }

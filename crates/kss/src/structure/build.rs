@@ -34,11 +34,53 @@ pub fn position(world: &Geo, a: Att, t: &Rational) -> Option<Point> {
 }
 
 /// Build the structure for the alive bodies of `world` at time `t`.
-pub fn build(world: &Geo, t: &Rational) -> Result<Kss, BuildError> {
+///
+/// The triangulation is first computed on the positions rounded to doubles.
+/// If that fails (polygons touch at `t`, as when one slides along another,
+/// or are closer than the rounding), it is retried on *shrunk* polygons:
+/// each polygon scaled about its vertex centroid by `1 − ε` in doubles, so
+/// that touching polygons are apart by about `ε` times their size. Only the
+/// combinatorics come from the shrunk copy; every triangle is then oriented
+/// with the exact coordinates, and a triangle that is flat there (between
+/// two polygons in contact) takes the shrunk copy's orientation. Such a
+/// build is only a candidate: [`Perturbed::Yes`] tells the caller to check
+/// it exactly (faces and bridges) before using it.
+pub fn build(world: &Geo, t: &Rational) -> Result<(Kss, Perturbed), BuildError> {
+    match build_with(world, t, None) {
+        Ok(kss) => Ok((kss, Perturbed::No)),
+        Err(first) => {
+            for shrink in SHRINKS {
+                if let Ok(kss) = build_with(world, t, Some(shrink)) {
+                    return Ok((kss, Perturbed::Yes));
+                }
+            }
+            Err(first)
+        }
+    }
+}
+
+/// Whether a build used the shrunk copy (and must be checked exactly).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Perturbed {
+    /// Built from the positions themselves.
+    No,
+    /// Built from shrunk polygons: a candidate to check.
+    Yes,
+}
+
+/// The relative shrink factors tried, in order.
+const SHRINKS: [f64; 3] = [
+    1.0 / (1u64 << 26) as f64,
+    1.0 / (1u64 << 18) as f64,
+    1.0 / (1u64 << 34) as f64,
+];
+
+fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, BuildError> {
     // Global vertex numbering.
     let mut atts: Vec<Att> = Vec::new();
     let mut exact: Vec<Point> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
+    let mut pts: Vec<Point2<f64>> = Vec::new();
     for (i, body) in world.bodies().iter().enumerate() {
         if !body.alive {
             continue;
@@ -49,21 +91,36 @@ pub fn build(world: &Geo, t: &Rational) -> Result<Kss, BuildError> {
         for (x, &v) in ids.iter().enumerate() {
             let a = Att::vertex(BodyId(i as u32), v);
             atts.push(a);
-            exact.push(world.position(a, t).expect("a finite point"));
+            let p = world.position(a, t).expect("a finite point");
+            let f = p.to_f64();
+            exact.push(p);
+            pts.push(Point2::new(f[0], f[1]));
             edges.push([base + x, base + (x + 1) % n]);
+        }
+        if let Some(eps) = shrink {
+            let body_pts = &mut pts[base..];
+            let c = body_pts
+                .iter()
+                .fold([0.0, 0.0], |c, p| [c[0] + p.x, c[1] + p.y]);
+            let c = [c[0] / n as f64, c[1] / n as f64];
+            for p in body_pts {
+                *p = Point2::new(p.x + eps * (c[0] - p.x), p.y + eps * (c[1] - p.y));
+            }
         }
     }
     let alive = world.bodies().iter().filter(|b| b.alive).count();
     if alive < 2 {
         return Ok(Kss::default());
     }
-    let pts: Vec<Point2<f64>> = exact
-        .iter()
-        .map(|p| {
-            let f = p.to_f64();
-            Point2::new(f[0], f[1])
-        })
-        .collect();
+    // the doubles triangulated, exactly (for the orientation of a triangle
+    // that is flat in exact coordinates)
+    let rounded: Vec<Point> = match shrink {
+        Some(_) => pts
+            .iter()
+            .map(|p| Point::from_f64([p.x, p.y]).expect("finite"))
+            .collect(),
+        None => Vec::new(),
+    };
     let mut conflict = false;
     let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
         ConstrainedDelaunayTriangulation::try_bulk_load_cdt(pts, edges, |_| conflict = true)
@@ -78,11 +135,23 @@ pub fn build(world: &Geo, t: &Rational) -> Result<Kss, BuildError> {
         .inner_faces()
         .map(|f| f.vertices().map(|h| h.fix().index()))
         .collect();
-    let raw = split_flat_triangles(raw, &exact)?;
+    let raw = match shrink {
+        None => split_flat_triangles(raw, &exact)?,
+        Some(_) => raw,
+    };
     let mut tris: Vec<[usize; 3]> = Vec::with_capacity(raw.len());
     let mut directed: HashMap<(usize, usize), ()> = HashMap::new();
     for [u, v, w] in raw {
-        let tri = match orient(&exact[u], &exact[v], &exact[w]) {
+        let sign = match orient(&exact[u], &exact[v], &exact[w]) {
+            Sign::Zero if shrink.is_some() => orient(&rounded[u], &rounded[v], &rounded[w]),
+            s => s,
+        };
+        if shrink.is_some() && sign != orient(&rounded[u], &rounded[v], &rounded[w]) {
+            return Err(BuildError::Rounding(
+                "the shrunk triangulation is not valid with exact coordinates".into(),
+            ));
+        }
+        let tri = match sign {
             Sign::Positive => [u, v, w],
             Sign::Negative => [u, w, v],
             Sign::Zero => return Err(BuildError::Rounding("a flat triangle".into())),
@@ -268,7 +337,7 @@ mod tests {
                 let world = World::new(&s, None).unwrap();
                 let world = Geo::plain(&world);
                 match build(&world, &Rational::zero()) {
-                    Ok(mut kss) => {
+                    Ok((mut kss, _)) => {
                         kss.check_topology(&world)
                             .unwrap_or_else(|e| panic!("{} seed {seed}: {e}", family.name()));
                         let t0 = crate::num::Time::zero();
@@ -295,7 +364,7 @@ mod larger_tests {
     fn check(s: &crate::Scenario) {
         let world = World::new(s, None).unwrap();
         let world = Geo::plain(&world);
-        let mut kss = build(&world, &Rational::zero()).unwrap();
+        let (mut kss, _) = build(&world, &Rational::zero()).unwrap();
         kss.check_topology(&world).unwrap();
         kss.place_middle_bridges(&world, &Time::zero());
         kss.check_faces(&world, &Time::zero()).unwrap();
@@ -323,6 +392,91 @@ mod larger_tests {
                 ..Default::default()
             }));
         }
+    }
+
+    #[test]
+    fn polygons_in_contact_are_built_from_a_shrunk_copy_and_checked() {
+        // b slides along a's side (testdata/regressions/
+        // rebuild_while_two_polygons_slide.json): from t = 3 on, b's vertex
+        // (4, 2) runs along a's edge from (6, 0) to (-1, 5); at t = 13/4
+        // the rounded triangulation has a side through b, the shrunk copy
+        // has flat triangles between the two
+        let poly =
+            |id: &str, v: &[[f64; 2]], p: [f64; 2], vel: [f64; 2]| crate::scenario::PolygonSpec {
+                id: id.into(),
+                vertices: v.to_vec(),
+                position: p,
+                velocity: vel,
+                fixed: false,
+            };
+        let s = crate::Scenario {
+            until: 4.0,
+            on_collision: crate::scenario::CollisionMode::Bounce,
+            polygons: vec![
+                poly(
+                    "a",
+                    &[
+                        [6.0, 0.0],
+                        [-1.0, 5.0],
+                        [-6.0, 0.0],
+                        [-2.0, -6.0],
+                        [3.0, -5.0],
+                        [6.0, -4.0],
+                    ],
+                    [-160.0, -160.0],
+                    [0.0, 0.0],
+                ),
+                poly(
+                    "b",
+                    &[
+                        [2.0, 4.0],
+                        [-5.0, 3.0],
+                        [-6.0, 2.0],
+                        [-3.0, -3.0],
+                        [1.0, -5.0],
+                        [3.0, -3.0],
+                        [4.0, 2.0],
+                    ],
+                    [-158.0, -176.0],
+                    [3.0, 3.0],
+                ),
+                poly(
+                    "c",
+                    &[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
+                    [-100.0, -100.0],
+                    [0.0, 0.0],
+                ),
+            ],
+            flight_plan_changes: vec![crate::scenario::FlightPlanChange {
+                time: 3.0,
+                id: "b".into(),
+                velocity: [-3.5, 2.5],
+            }],
+        };
+        let world = World::new(&s, None).unwrap();
+        let world = Geo::plain(&world);
+        let at = Rational::from_f64(3.25).unwrap();
+        let (_, perturbed) = build(&world, &at).unwrap();
+        assert_eq!(perturbed, Perturbed::Yes);
+        // the engine takes it only after the exact checks; then the audit
+        let k = crate::structure::engine::Kinetic::new(&world, &at).unwrap();
+        let now = crate::num::Time::from_rational(at.clone());
+        let next = k
+            .next_time()
+            .expect("b reaches the end of a's edge")
+            .clone();
+        assert!(next > now);
+        let later = now.rational_between(&next);
+        k.audit(&world, &now, &later).unwrap();
+        // apart polygons take the direct path
+        let s = gas(&GasParams {
+            k: 30,
+            seed: 4,
+            ..Default::default()
+        });
+        let world = World::new(&s, None).unwrap();
+        let world = Geo::plain(&world);
+        assert_eq!(build(&world, &Rational::zero()).unwrap().1, Perturbed::No);
     }
 
     fn pt(x: i64, y: i64) -> Point {

@@ -204,7 +204,7 @@ mod tests {
                 let s = generate_small(family, seed);
                 let world = World::new(&s, None).unwrap();
                 let world = Geo::plain(&world);
-                let mut kss = super::super::build::build(&world, &Rational::zero()).unwrap();
+                let (mut kss, _) = super::super::build::build(&world, &Rational::zero()).unwrap();
                 kss.place_middle_bridges(&world, &Time::zero());
                 let certs = kss
                     .certificates(&world, &Time::zero())
@@ -229,7 +229,7 @@ mod tests {
         });
         let world = World::new(&s, None).unwrap();
         let world = Geo::plain(&world);
-        let mut kss = super::super::build::build(&world, &Rational::zero()).unwrap();
+        let (mut kss, _) = super::super::build::build(&world, &Rational::zero()).unwrap();
         kss.place_middle_bridges(&world, &Time::zero());
         let certs = kss.certificates(&world, &Time::zero()).unwrap();
         let ratio = certs.len() as f64 / world.len() as f64;

@@ -254,7 +254,19 @@ pub enum Step {
 impl Kinetic {
     /// Build the structure at time `t` and schedule its certificates.
     pub fn new(world: &Geo, t: &Rational) -> Result<Kinetic, String> {
-        let kss = super::build::build(world, t).map_err(|e| e.to_string())?;
+        let (kss, perturbed) = super::build::build(world, t).map_err(|e| e.to_string())?;
+        Kinetic::from_built(world, t, kss, perturbed)
+    }
+
+    /// The engine on a freshly built structure: middle bridges placed,
+    /// corridors normalized, certificates scheduled; a build from the
+    /// shrunk copy is checked exactly first.
+    pub(crate) fn from_built(
+        world: &Geo,
+        t: &Rational,
+        kss: Kss,
+        perturbed: super::build::Perturbed,
+    ) -> Result<Kinetic, String> {
         let mut k = Kinetic {
             kss,
             ..Default::default()
@@ -262,6 +274,13 @@ impl Kinetic {
         let now = Time::from_rational(t.clone());
         k.kss.place_middle_bridges(world, &now);
         k.schedule_everything(world, &now)?;
+        if perturbed == super::build::Perturbed::Yes {
+            // built from shrunk polygons: only a candidate until the exact
+            // checks accept it (O(N) and more, but only where polygons touch)
+            k.kss.check_topology(world)?;
+            k.kss.check_faces(world, &now)?;
+            k.kss.check_bridges(world, t)?;
+        }
         Ok(k)
     }
 
