@@ -796,6 +796,15 @@ impl Kinetic {
     ) -> Result<(), String> {
         let f = now.to_f64();
         let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
+        // the old structure's next failure after `now` gives the scale of
+        // the gaps between events: start the search there rather than far
+        // away, where polygons have moved into each other and the build
+        // fails (each failed attempt is a whole triangulation)
+        if let Some(next) = self.queue_times_after(now) {
+            if next < hi {
+                hi = next;
+            }
+        }
         for _ in 0..200 {
             let at = now.rational_between(&hi);
             let at_t = Time::from_rational(at.clone());
@@ -825,6 +834,16 @@ impl Kinetic {
             hi = at_t;
         }
         Err(format!("no rebuild just after t = {now} found"))
+    }
+
+    /// The earliest queued failure time strictly after `now` (O(queue)).
+    fn queue_times_after(&self, now: &Time) -> Option<Time> {
+        self.queue
+            .iter()
+            .map(|(_, t, _, _)| t)
+            .filter(|t| *t > now)
+            .min()
+            .cloned()
     }
 
     /// Handle the failure of the (popped) certificate on `p` at `t`.
