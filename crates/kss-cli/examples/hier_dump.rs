@@ -34,4 +34,40 @@ fn main() {
     for (i, c) in state.kinetic.kss.corrs.iter().enumerate() {
         println!("corridor {i}: {c:?}");
     }
+    let geo = kss::structure::geo::Geo {
+        world: &state.world,
+        shapes: &state.shapes,
+    };
+
+    for k in 0..state.kinetic.kss.corrs.len() {
+        let faces = state
+            .kinetic
+            .kss
+            .corridor_faces(&geo, kss::structure::CorrId(k as u32));
+        for f in faces {
+            let f: Vec<String> = f.iter().map(|a| format!("{:?}.{}", a.obj, a.v)).collect();
+            println!("corridor {k} face: {}", f.join(" "));
+        }
+    }
+    for b in 0..state.world.len() {
+        let id = kss::world::BodyId(b as u32);
+        if !state.world.body(id).alive {
+            continue;
+        }
+        let seen: Vec<String> = geo
+            .ids(id)
+            .into_iter()
+            .map(|v| {
+                let a = kss::structure::Att::vertex(id, v);
+                let p = geo.position(a, &state.time).expect("finite").to_f64();
+                let real = if geo.is_real(a) { "" } else { "*" };
+                format!("{v}{real} ({:.4}, {:.4})", p[0], p[1])
+            })
+            .collect();
+        println!(
+            "body {b} ({}): {}",
+            state.world.body(id).id,
+            seen.join(", ")
+        );
+    }
 }

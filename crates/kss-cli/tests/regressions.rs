@@ -55,3 +55,30 @@ fn regression_scenarios_agree_with_the_reference() {
         );
     }
 }
+
+/// Known failures, kept so that they are not forgotten: every
+/// `testdata/known-failures/NAME.json` is a scenario on which a structure
+/// still disagrees with the reference (see ARCHITECTURE.md, "Known
+/// failures"). Run with `--ignored`; move a file to `regressions/` once it
+/// passes.
+#[test]
+#[ignore = "known failures (issue 4 open): hierarchical misses a contact where a middle bridge runs along two flush edges"]
+fn known_failures_agree_with_the_reference() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/known-failures");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("the known-failures folder")
+        .map(|e| e.expect("an entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    for f in &files {
+        let want = run(f, "brute");
+        assert_eq!(run(f, "plain"), want, "{} with plain", f.display());
+        assert_eq!(
+            run(f, "hierarchical"),
+            want,
+            "{} with hierarchical",
+            f.display()
+        );
+    }
+}
