@@ -164,6 +164,10 @@ fn sliding(
     out
 }
 
+/// Pops one approximation vertex (and updates whatever is built on the
+/// approximations); `Ok(false)` if there was nothing to pop.
+pub type Popper<'p> = &'p mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String>;
+
 /// Pop the approximations of bodies `a` and `b` where, just after `t`, an
 /// approximation edge of one slides along a vertex of the other or the
 /// other way round (see [`sliding`]), until they do not; the number of
@@ -174,7 +178,7 @@ pub fn unslide_after(
     shapes: &mut Shapes,
     (a, b): (BodyId, BodyId),
     t: &Time,
-    popper: &mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String>,
+    popper: Popper,
 ) -> Result<u64, String> {
     let mut pops = 0;
     loop {
@@ -212,7 +216,7 @@ fn separate(
     (a, b): (BodyId, BodyId),
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
     on_segment: Option<GeoTest>,
-    popper: &mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String>,
+    popper: Popper,
 ) -> Result<u64, String> {
     let mut pops = 0;
     loop {
@@ -244,7 +248,7 @@ pub fn separate_after(
     shapes: &mut Shapes,
     (a, b): (BodyId, BodyId),
     t: &Time,
-    popper: &mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String>,
+    popper: Popper,
 ) -> Result<u64, String> {
     separate(
         world,
