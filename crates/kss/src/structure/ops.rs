@@ -258,7 +258,11 @@ impl Kss {
         }
     }
 
-    fn triangle_collapse(
+    /// A partition triangle collapses with corner `middle` between the
+    /// other two: a flip across the opposite side if its corridor is empty,
+    /// else an ear slide along that corridor's first face (decided with the
+    /// turns just after `t`).
+    pub(super) fn triangle_collapse(
         &mut self,
         world: &Geo,
         tri: TriId,
