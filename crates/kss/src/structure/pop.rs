@@ -348,7 +348,7 @@ impl Kss {
         };
         let candidates = order.len() + 1;
         // first every candidate as it is; then, if none holds, each with the
-        // flips that repair the partition triangles it inverts
+        // triangle collapses that repair the partition triangles it inverts
         for (repair, side, j) in [false, true].into_iter().flat_map(|repair| {
             [Side::Before, Side::After]
                 .into_iter()
