@@ -47,9 +47,8 @@
 //! no triangulation and no certificate outside the touched owners.
 
 use super::geo::{Geo, Shapes};
-use super::local::Side;
+use super::local::{turn_on, Side};
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
-use crate::motion::orient_poly;
 use crate::num::{Sign, Time};
 use crate::world::World;
 
@@ -75,6 +74,46 @@ pub enum PopResult {
     /// Popped, but no local update was found valid: the structure still
     /// describes the old approximation and must be rebuilt.
     Failed,
+}
+
+/// Copies of some partition triangles and corridors, put back when a tried
+/// update does not hold.
+struct Saved {
+    tris: Vec<(TriId, PartitionTriangle)>,
+    corrs: Vec<(CorrId, Corridor)>,
+}
+
+impl Saved {
+    fn of(kss: &Kss, tris: &[TriId], corrs: &[CorrId]) -> Saved {
+        Saved {
+            tris: tris
+                .iter()
+                .map(|&ti| (ti, kss.tris[ti.0 as usize].clone()))
+                .collect(),
+            corrs: corrs
+                .iter()
+                .map(|&k| (k, kss.corrs[k.0 as usize].clone()))
+                .collect(),
+        }
+    }
+
+    fn restore(&self, kss: &mut Kss) {
+        for (ti, tr) in &self.tris {
+            kss.tris[ti.0 as usize] = tr.clone();
+        }
+        for (k, c) in &self.corrs {
+            kss.corrs[k.0 as usize] = c.clone();
+        }
+    }
+}
+
+/// The position of `x` at `t` in doubles, for the trace (`None` at an
+/// irrational instant).
+#[cfg(feature = "trace")]
+fn trace_pos(geo: &Geo, x: Att, t: &Time) -> Option<[f64; 2]> {
+    t.as_rational()
+        .and_then(|r| geo.position(x, r))
+        .map(|p| p.to_f64())
 }
 
 /// The chain of a corridor on the popped body, as it was before the pop.
@@ -258,11 +297,7 @@ impl Kss {
                 "pop {a:?}: old structure valid before t: {}",
                 copy.pop_valid(&old, &ids, &[], t, Side::Before)
             );
-            let pos = |x: Att| {
-                t.as_rational()
-                    .and_then(|r| old.position(x, r))
-                    .map(|p| p.to_f64())
-            };
+            let pos = |x: Att| trace_pos(&old, x, t);
             for &(ti, _) in order.iter().chain(&at_i) {
                 let tr = &self.tris[ti.0 as usize];
                 eprintln!(
@@ -303,11 +338,7 @@ impl Kss {
                 "pop {a:?}: i {i} m {m} kside {:?} iside {:?} count {count}, order {order:?}, at_i {at_i:?}",
                 kside.v, iside.v
             );
-            let pos = |x: Att| {
-                t.as_rational()
-                    .and_then(|r| geo.position(x, r))
-                    .map(|p| p.to_f64())
-            };
+            let pos = |x: Att| trace_pos(&geo, x, t);
             eprintln!("  new points {:?} {:?}", pos(mside), pos(kside));
             for r in &chains {
                 eprintln!("  chain {r:?} corr {:?}", self.corrs[r.corr.0 as usize]);
@@ -323,14 +354,7 @@ impl Kss {
         }
         corr_ids.sort();
         corr_ids.dedup();
-        let saved_tris: Vec<PartitionTriangle> = tri_ids
-            .iter()
-            .map(|ti| self.tris[ti.0 as usize].clone())
-            .collect();
-        let saved_corrs: Vec<Corridor> = corr_ids
-            .iter()
-            .map(|k| self.corrs[k.0 as usize].clone())
-            .collect();
+        let saved = Saved::of(self, &tri_ids, &corr_ids);
         let remap = |x: Att, rec: &ChainRec, new_start: Att, new_end: Att| -> Att {
             if x == a {
                 if rec.start == a {
@@ -400,12 +424,7 @@ impl Kss {
                 ids.dedup();
                 return PopResult::Local { corrs, tris, ids };
             }
-            for (n, ti) in tri_ids.iter().enumerate() {
-                self.tris[ti.0 as usize] = saved_tris[n].clone();
-            }
-            for (n, k) in corr_ids.iter().enumerate() {
-                self.corrs[k.0 as usize] = saved_corrs[n].clone();
-            }
+            saved.restore(self);
         }
         PopResult::Failed
     }
@@ -436,16 +455,8 @@ impl Kss {
         let (corrs, tris) = touched;
         let inverted = |s: &Kss, ti: TriId| {
             let c = s.tris[ti.0 as usize].c;
-            if c.iter().any(|x| x.is_omega()) {
-                return false;
-            }
-            let lp = |x: Att| geo.point(x);
-            let poly = orient_poly(&lp(c[0]), &lp(c[1]), &lp(c[2]));
-            let sign = match side {
-                Side::Before => poly.sign_before(t),
-                Side::After => poly.sign_after(t),
-            };
-            sign != Sign::Positive
+            !c.iter().any(|x| x.is_omega())
+                && turn_on(geo, c[0], c[1], c[2], t, side) != Sign::Positive
         };
         let Some(&bad) = tris.iter().find(|&&ti| inverted(self, ti)) else {
             return false;
@@ -480,29 +491,14 @@ impl Kss {
             .collect();
         near_corrs.sort();
         near_corrs.dedup();
-        let saved_tris: Vec<PartitionTriangle> = near_tris
-            .iter()
-            .map(|ti| self.tris[ti.0 as usize].clone())
-            .collect();
-        let saved_corrs: Vec<Corridor> = near_corrs
-            .iter()
-            .map(|k| self.corrs[k.0 as usize].clone())
-            .collect();
-        let restore = |s: &mut Kss| {
-            for (ti, tr) in near_tris.iter().zip(&saved_tris) {
-                s.tris[ti.0 as usize] = tr.clone();
-            }
-            for (k, c) in near_corrs.iter().zip(&saved_corrs) {
-                s.corrs[k.0 as usize] = c.clone();
-            }
-        };
+        let saved = Saved::of(self, &near_tris, &near_corrs);
         for e in order {
             if *budget == 0 {
                 return false;
             }
             *budget -= 1;
             let Ok(out) = self.triangle_collapse(geo, bad, corners[e], t) else {
-                restore(self);
+                saved.restore(self);
                 continue;
             };
             let (mut c2, mut t2) = (corrs.clone(), tris.clone());
@@ -524,7 +520,7 @@ impl Kss {
                 *tris = t2;
                 return true;
             }
-            restore(self);
+            saved.restore(self);
         }
         false
     }
@@ -551,14 +547,7 @@ impl Kss {
         t: &Time,
         side: Side,
     ) -> bool {
-        let sign = |p: [Att; 3]| {
-            let lp = |x: Att| geo.point(x);
-            let poly = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2]));
-            match side {
-                Side::Before => poly.sign_before(t),
-                Side::After => poly.sign_after(t),
-            }
-        };
+        let sign = |p: [Att; 3]| turn_on(geo, p[0], p[1], p[2], t, side);
         let holds = |p: [Att; 3]| sign(p) == Sign::Positive;
         for &ti in tris {
             let c = self.tris[ti.0 as usize].c;
@@ -567,10 +556,7 @@ impl Kss {
                 eprintln!(
                     "  triangle {} does not hold before t: {c:?} at {:?}",
                     ti.0,
-                    c.map(|x| t
-                        .as_rational()
-                        .and_then(|r| geo.position(x, r))
-                        .map(|p| p.to_f64()))
+                    c.map(|x| trace_pos(geo, x, t))
                 );
                 return false;
             }
