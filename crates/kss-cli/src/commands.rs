@@ -145,6 +145,7 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "degenerate_rebuilds": stats.degenerate_rebuilds,
         "refine_rebuilds": stats.refine_rebuilds,
         "merges": stats.merges,
+        "local_removals": stats.local_removals,
         "wall_seconds": wall_seconds,
     });
     let mut s = serde_json::to_string_pretty(&v).expect("stats serialize");

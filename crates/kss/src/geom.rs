@@ -6,7 +6,7 @@
 //! therefore dyadic rationals; a [`BodyPolygon`] stores them as integers over
 //! one power of two so that predicates run on integers.
 
-use crate::num::{decompose_f64, Int, Rational, Sign};
+use crate::num::{decompose_f64, Int, Interval, Rational, Sign};
 
 /// An exact point.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -88,6 +88,9 @@ pub struct BodyPolygon {
     ys: Vec<Int>,
     exp: i64,
     f64s: Vec<[f64; 2]>,
+    /// Enclosures of the integer coordinates (the filter's input, converted
+    /// once rather than at every orientation test).
+    ivs: Vec<[Interval; 2]>,
 }
 
 /// What is wrong with a vertex list (see [`BodyPolygon::new`]).
@@ -139,11 +142,17 @@ impl BodyPolygon {
             .collect();
         let xs: Vec<Int> = ints.iter().step_by(2).cloned().collect();
         let ys: Vec<Int> = ints.iter().skip(1).step_by(2).cloned().collect();
+        let ivs = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| [Interval::of_int(x), Interval::of_int(y)])
+            .collect();
         let poly = BodyPolygon {
             xs,
             ys,
             exp,
             f64s: vertices.to_vec(),
+            ivs,
         };
         poly.check_convex()?;
         Ok(poly)
@@ -234,6 +243,12 @@ impl BodyPolygon {
     /// Integer coordinates of vertex `i` (the point is `(x, y) · 2^exp`).
     pub fn int_vertex(&self, i: usize) -> (&Int, &Int) {
         (&self.xs[i], &self.ys[i])
+    }
+
+    /// Enclosures of the integer coordinates of vertex `i` (as
+    /// [`Interval::of_int`] of [`BodyPolygon::int_vertex`]).
+    pub fn int_vertex_enclosure(&self, i: usize) -> [Interval; 2] {
+        self.ivs[i]
     }
 
     /// The common binary exponent of the integer coordinates.

@@ -97,6 +97,9 @@ pub struct RunStats {
     /// (coarsening; 0 for `plain` and `brute`). Not certificate failures,
     /// so not counted in `events_processed`.
     pub merges: u64,
+    /// Polygons removed in place (`remove` mode), without a rebuild (0 for
+    /// `brute`).
+    pub local_removals: u64,
 }
 
 /// Why a run could not complete.
@@ -307,6 +310,10 @@ trait Engine {
     }
     /// Approximation vertices merged away (coarsening).
     fn merges(&self) -> u64 {
+        0
+    }
+    /// Polygons removed in place.
+    fn local_removals(&self) -> u64 {
         0
     }
 }
@@ -772,19 +779,45 @@ impl Engine for KineticEngine {
             let t = now
                 .as_rational()
                 .ok_or_else(|| RunError::Internal("irrational world time".into()))?;
+            // one body at a time, in place (the others that go are still
+            // seen as the structure sees them while it is removed)
+            let mut local = true;
             for &b in bodies {
+                if world.body(b).alive {
+                    continue;
+                }
+                if local {
+                    let geo = Geo {
+                        world,
+                        shapes: &self.shapes,
+                    };
+                    local = self
+                        .k
+                        .remove_body(&geo, b, now)
+                        .map_err(RunError::Internal)?;
+                }
                 if let Some(slot) = self.shapes.per.get_mut(b.index()) {
-                    if !world.body(b).alive {
-                        *slot = None;
-                    }
+                    *slot = None;
                 }
             }
             let geo = Geo {
                 world,
                 shapes: &self.shapes,
             };
-            self.k.rebuild(&geo, t).map_err(RunError::Internal)?;
-            *self.k.counts.entry("rebuild").or_default() += 1;
+            if local {
+                // certificates set aside at this instant are scheduled again
+                let alive: Vec<BodyId> = bodies
+                    .iter()
+                    .copied()
+                    .filter(|&b| world.body(b).alive)
+                    .collect();
+                self.k
+                    .motion_changed(&geo, now, &alive)
+                    .map_err(RunError::Internal)?;
+            } else {
+                self.k.rebuild(&geo, t).map_err(RunError::Internal)?;
+                *self.k.counts.entry("rebuild").or_default() += 1;
+            }
         } else {
             let geo = Geo {
                 world,
@@ -826,6 +859,7 @@ impl Engine for KineticEngine {
                         | "degenerate_rebuild"
                         | "refine_rebuild"
                         | "local_pop"
+                        | "local_remove"
                         | "merge"
                 )
             })
@@ -844,6 +878,10 @@ impl Engine for KineticEngine {
 
     fn merges(&self) -> u64 {
         self.k.counts.get("merge").copied().unwrap_or(0)
+    }
+
+    fn local_removals(&self) -> u64 {
+        self.k.counts.get("local_remove").copied().unwrap_or(0)
     }
 }
 
@@ -972,6 +1010,7 @@ fn drive(
         stats.refine_rebuilds,
     ) = engine.rebuilds();
     stats.merges = engine.merges();
+    stats.local_removals = engine.local_removals();
     stats.collisions = collisions;
     stats.max_number_bits = max_bits;
     Ok(stats)

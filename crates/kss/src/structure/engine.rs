@@ -351,6 +351,15 @@ impl Kinetic {
                 Some(old) if old.sign != c.sign => *old,
                 _ => c,
             };
+            // a certificate left without owners (a removal in progress) is
+            // taken over only as it is
+            if self
+                .certs
+                .get(&c.p)
+                .is_some_and(|s| s.owners.is_empty() && s.cert != c)
+            {
+                self.drop_cert(&c.p);
+            }
             match self.certs.get_mut(&c.p) {
                 Some(s) if s.cert.sign != c.sign => {
                     if self.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
@@ -595,6 +604,153 @@ impl Kinetic {
         self.refresh_moved(&geo, (b, &ids), owners, t)?;
         *self.counts.entry("local_pop").or_default() += 1;
         Ok((true, true))
+    }
+
+    /// Remove body `b` (already dead in `world`; every other body seen as
+    /// the structure sees it) at `now` in place ([`Kss::removal_plan`]):
+    /// the certificates of the triangles and corridors that go are dropped,
+    /// the new ones normalized and scheduled, and the slots renumbered.
+    /// Returns `false` when the removal cannot be done locally (the caller
+    /// rebuilds; the structure may then be half changed); the new
+    /// certificates must all hold just after `now`.
+    pub fn remove_body(&mut self, world: &Geo, b: BodyId, now: &Time) -> Result<bool, String> {
+        if self.broken.is_some() {
+            return Ok(false);
+        }
+        if world.bodies().iter().filter(|x| x.alive).count() < 2 {
+            // nothing stays to separate: the empty structure
+            let counts = std::mem::take(&mut self.counts);
+            let max_active = self.max_active;
+            *self = Kinetic {
+                counts,
+                max_active,
+                ..Default::default()
+            };
+            *self.counts.entry("local_remove").or_default() += 1;
+            return Ok(true);
+        }
+        let plan = match self.kss.removal_plan(world, b, now) {
+            Ok(plan) => plan,
+            Err(_e) => {
+                trace!("removal of {b:?} at {} not local: {_e}", now.to_f64());
+                return Ok(false);
+            }
+        };
+        // the certificates of what goes lose their owners but stay for the
+        // moment: the new triangles and corridors take over the ones they
+        // share (most of a merged corridor's junctions) without computing
+        // their failure times again
+        let mut orphans: Vec<[Att; 3]> = Vec::new();
+        let dead = (plan.dead_tris.iter().map(|&t| Owner::Tri(t)))
+            .chain(plan.dead_corrs.iter().map(|&k| Owner::Corr(k)));
+        for o in dead {
+            let mine = match o {
+                Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
+                Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
+            };
+            for p in mine {
+                if let Some(s) = self.certs.get_mut(&p) {
+                    s.owners.retain(|&x| x != o);
+                    if s.owners.is_empty() {
+                        orphans.push(p);
+                    }
+                }
+            }
+        }
+        let spliced = self.kss.apply_removal(plan);
+        for &(src, dst) in &spliced.moved_tris {
+            let mine = std::mem::take(&mut self.owned_tri[src.0 as usize]);
+            self.rename(&mine, Owner::Tri(src), Owner::Tri(dst));
+            self.owned_tri[dst.0 as usize] = mine;
+        }
+        self.owned_tri.truncate(self.kss.tris.len());
+        for &(src, dst) in &spliced.moved_corrs {
+            let mine = std::mem::take(&mut self.owned_corr[src.0 as usize]);
+            self.rename(&mine, Owner::Corr(src), Owner::Corr(dst));
+            self.owned_corr[dst.0 as usize] = mine;
+        }
+        self.owned_corr.truncate(self.kss.corrs.len());
+        self.last_touched.clear();
+        for &k in &spliced.corrs {
+            self.kss.place_middle_bridge(world, k, now);
+            if let Err(_e) = self.kss.normalize(world, k, now, None) {
+                trace!("removal of {b:?}: {_e}");
+                return Ok(false);
+            }
+        }
+        for &tri in &spliced.tris {
+            self.refresh(world, Owner::Tri(tri), now)?;
+        }
+        for &k in &spliced.corrs {
+            self.refresh(world, Owner::Corr(k), now)?;
+        }
+        // (certificates taken over as they were: if one fails now, it did
+        // before the removal too, and is handled as an event of this instant)
+        let mut adopted: BTreeSet<[Att; 3]> = BTreeSet::new();
+        for p in orphans {
+            match self.certs.get(&p) {
+                Some(s) if s.owners.is_empty() => self.drop_cert(&p),
+                Some(_) => {
+                    adopted.insert(p);
+                }
+                None => {}
+            }
+        }
+        if self.by_body.get(&b).is_some_and(|s| !s.is_empty()) {
+            trace!("removal of {b:?}: certificates on it stay");
+            return Ok(false);
+        }
+        self.by_body.remove(&b);
+        // the new structure must hold just after `now`: no new certificate
+        // fails at once (only those due now can) but the ones taken over and
+        // the junctions that normalization holds against the motion (zero
+        // now, failing at this instant as events still to come)
+        let held: BTreeSet<[Att; 3]> = spliced
+            .corrs
+            .iter()
+            .filter_map(|k| self.kss.held.get(k))
+            .flatten()
+            .map(|&p| super::certs::rotate_to_min(p))
+            .collect();
+        let fresh: Vec<[Att; 3]> = spliced
+            .tris
+            .iter()
+            .flat_map(|t| &self.owned_tri[t.0 as usize])
+            .chain(
+                spliced
+                    .corrs
+                    .iter()
+                    .flat_map(|k| &self.owned_corr[k.0 as usize]),
+            )
+            .copied()
+            .collect();
+        for p in &fresh {
+            let Some(s) = self.certs.get(p) else {
+                return Ok(false);
+            };
+            if adopted.contains(p) || held.contains(p) {
+                continue;
+            }
+            if self.due_now(p, s.key, now) && is_failing(world, &s.cert, now) {
+                trace!("removal of {b:?}: certificate {p:?} fails at once");
+                return Ok(false);
+            }
+        }
+        *self.counts.entry("local_remove").or_default() += 1;
+        Ok(true)
+    }
+
+    /// Rename owner `from` to `to` on certificates `ps`.
+    fn rename(&mut self, ps: &[[Att; 3]], from: Owner, to: Owner) {
+        for p in ps {
+            if let Some(s) = self.certs.get_mut(p) {
+                for x in &mut s.owners {
+                    if *x == from {
+                        *x = to;
+                    }
+                }
+            }
+        }
     }
 
     /// Schedule the certificate on `p` again if it was popped from the queue

@@ -47,11 +47,19 @@ impl Kss {
     /// endpoints convex), by walking the geodesic diagonal `a_s ⇝ b_t`.
     pub fn place_middle_bridges(&mut self, world: &Geo, t: &Time) {
         for ki in 0..self.corrs.len() {
-            let k = CorrId(ki as u32);
+            self.place_middle_bridge(world, CorrId(ki as u32), t);
+        }
+    }
+
+    /// Compute corridor `k`'s middle bridge at time `t` as
+    /// [`Kss::place_middle_bridges`] does for all.
+    pub fn place_middle_bridge(&mut self, world: &Geo, k: CorrId, t: &Time) {
+        let ki = k.0 as usize;
+        {
             let c = self.corrs[ki].clone();
             if c.b == Obj::Omega || c.len_a == 0 || c.len_b == 0 {
                 self.corrs[ki].mid = None;
-                continue;
+                return;
             }
             let (a_s, b_s, a_t, b_t) = self.ends(k);
             let conv = |u, v, w| turn_after(world, u, v, w, t) == Sign::Positive;
@@ -61,7 +69,7 @@ impl Kss {
                 && conv(step_ccw(world, b_s), b_s, a_s);
             if !four {
                 self.corrs[ki].mid = None;
-                continue;
+                return;
             }
             // α advances from a_s towards a_t and β from b_t towards b_s until
             // α is a convex corner of the face next to `t` (α − 1 left of

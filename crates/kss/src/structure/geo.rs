@@ -246,11 +246,8 @@ impl<'a> Geo<'a> {
         let body = self.world.body(b);
         match self.shapes.approx(b) {
             None => {
-                let (x, y) = body.shape.int_vertex(a.v as usize);
-                Some(
-                    body.frame
-                        .enclose(Interval::of_int(x), Interval::of_int(y), t),
-                )
+                let [x, y] = body.shape.int_vertex_enclosure(a.v as usize);
+                Some(body.frame.enclose(x, y, t))
             }
             Some(ap) => {
                 let [x, y] = ap

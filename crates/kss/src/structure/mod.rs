@@ -36,6 +36,7 @@ pub mod local;
 pub mod ops;
 pub mod pop;
 pub mod refine;
+pub mod remove;
 pub mod view;
 
 use crate::world::BodyId;

@@ -1,0 +1,557 @@
+//! Removing a polygon in place (`remove` mode).
+//!
+//! Removing body `P` leaves a hole: the region `R` made of `P`, the
+//! partition triangles with a corner on `P` and the corridors with `P` on
+//! one side. `R` is bounded by the chains of `P`'s neighbours that faced
+//! it (in those corridors) and by the sides of its triangles opposite
+//! `P` (bridges between two neighbours, or rays to `ω` when `P` was on the
+//! convex hull). Only `R` is triangulated again: a constrained
+//! triangulation (spade) of the vertices on its boundary, with the chain
+//! edges and the finite bridges as constraints, keeps the triangles on
+//! `R`'s side of them (every one checked positive with exact coordinates),
+//! and the edges of the local hull that bound `R` become new hull edges
+//! (faces with `ω`). Faces on three objects are the new partition
+//! triangles; corridors are walked as in the construction, except that a
+//! walk that reaches a bridge of `R`'s boundary goes on through the
+//! corridor outside it (which ended at a removed triangle), so that the
+//! outside corridors that ended at `R` are merged into the new ones.
+//!
+//! The cost is the size of `R`'s boundary (the facing chains), not the
+//! number of polygons; a removal that cannot be done this way (the local
+//! triangulation is not valid for the exact coordinates, or fewer than
+//! two bodies stay) is reported as an error and the caller rebuilds.
+
+use std::collections::{HashMap, HashSet};
+
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use super::geo::Geo;
+use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
+use crate::geom::{orient, Point};
+use crate::num::{Sign, Time};
+use crate::world::BodyId;
+
+/// An end of a planned corridor: a side of a new triangle (by its index
+/// among the new ones) or of a triangle that stays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum End {
+    New(usize, u8),
+    Old(TriId, u8),
+}
+
+/// A corridor of the plan.
+#[derive(Clone, Copy, Debug)]
+struct PlannedCorr {
+    a: Obj,
+    b: Obj,
+    s: End,
+    t: End,
+    len_a: u32,
+    len_b: u32,
+}
+
+/// What removing a body changes, computed without touching the structure.
+#[derive(Clone, Debug)]
+pub struct RemovalPlan {
+    /// Triangles that go (sorted): those with a corner on the body.
+    pub dead_tris: Vec<TriId>,
+    /// Corridors that go (sorted): those with the body on one side, and
+    /// those outside that ended at a triangle that goes (merged into new
+    /// ones).
+    pub dead_corrs: Vec<CorrId>,
+    new_tris: Vec<[Att; 3]>,
+    new_tri_corr: Vec<[usize; 3]>,
+    new_corrs: Vec<PlannedCorr>,
+    /// Sides of triangles that stay whose corridor is a new one.
+    far: Vec<(TriId, u8, usize)>,
+}
+
+/// What [`Kss::apply_removal`] did: the ids of the new triangles and
+/// corridors, and the ones that were moved to fill the freed slots
+/// (`(from, to)`, applied in order).
+#[derive(Clone, Debug, Default)]
+pub struct Spliced {
+    /// The new triangles.
+    pub tris: Vec<TriId>,
+    /// The new corridors.
+    pub corrs: Vec<CorrId>,
+    /// Triangles moved from the end of the list into a freed slot.
+    pub moved_tris: Vec<(TriId, TriId)>,
+    /// Corridors moved from the end of the list into a freed slot.
+    pub moved_corrs: Vec<(CorrId, CorrId)>,
+}
+
+/// The outside corridor beyond a bridge of `R`'s boundary, and whether the
+/// walk enters it at its end `s` (else at `t`).
+type Portal = (CorrId, bool);
+
+impl Kss {
+    /// Plan the removal of body `p` at time `t` (module docs). `world` must
+    /// still see every other body as the structure does; `p`'s own
+    /// geometry is not used.
+    pub fn removal_plan(&self, world: &Geo, p: BodyId, now: &Time) -> Result<RemovalPlan, String> {
+        let t = now.as_rational().ok_or("an irrational instant")?;
+        let ti = now.interval();
+        let alive = world.bodies().iter().filter(|b| b.alive).count();
+        if alive < 2 {
+            return Err(format!("{alive} bodies stay"));
+        }
+        let po = Obj::Body(p);
+        let dead_tris: Vec<TriId> = (0..self.tris.len())
+            .filter(|&i| self.tris[i].c.iter().any(|c| c.obj == po))
+            .map(|i| TriId(i as u32))
+            .collect();
+        let star: Vec<CorrId> = (0..self.corrs.len())
+            .filter(|&i| self.corrs[i].a == po || self.corrs[i].b == po)
+            .map(|i| CorrId(i as u32))
+            .collect();
+        if dead_tris.len() < 2 {
+            return Err("the body has fewer than two triangles".into());
+        }
+        let dead_set: HashSet<TriId> = dead_tris.iter().copied().collect();
+        // the bridges of R's boundary, each with R on its left, and the
+        // outside corridors beyond them
+        let mut portal: HashMap<(Att, Att), Portal> = HashMap::new();
+        let mut merged: Vec<CorrId> = Vec::new();
+        let mut bridges: Vec<(Att, Att)> = Vec::new();
+        for &tri in &dead_tris {
+            let c = self.tris[tri.0 as usize].c;
+            let i = (0..3).find(|&i| c[i].obj == po).expect("a corner on p");
+            let j = (i + 1) % 3;
+            let (x, y) = (c[j], c[(j + 1) % 3]);
+            let k = self.tris[tri.0 as usize].corr[j];
+            let kc = &self.corrs[k.0 as usize];
+            let at_s = kc.s == (tri, j as u8);
+            if !at_s && kc.t != (tri, j as u8) {
+                return Err(format!("corridor {k:?} does not end at triangle {tri:?}"));
+            }
+            if portal.insert((y, x), (k, at_s)).is_some() {
+                return Err("two bridges on one side".into());
+            }
+            if !merged.contains(&k) {
+                merged.push(k);
+            }
+            bridges.push((x, y));
+        }
+        // the chains facing p, walked clockwise (free space on the left)
+        let mut chains: Vec<(Att, Att)> = Vec::new();
+        let mut ends: Vec<Att> = Vec::new();
+        for &k in &star {
+            let c = &self.corrs[k.0 as usize];
+            let (a_s, _, _, b_t) = self.ends(k);
+            let (from, len) = if c.a == po {
+                (b_t, c.len_b)
+            } else {
+                (a_s, c.len_a)
+            };
+            if from.is_omega() {
+                continue;
+            }
+            ends.push(from);
+            let mut v = from;
+            for _ in 0..len {
+                let w = world.cw(v, 1);
+                chains.push((v, w));
+                v = w;
+            }
+            ends.push(v);
+        }
+        // local vertex numbering
+        let mut index: HashMap<Att, usize> = HashMap::new();
+        let mut atts: Vec<Att> = Vec::new();
+        let mut add = |a: Att, atts: &mut Vec<Att>| {
+            if !a.is_omega() {
+                index.entry(a).or_insert_with(|| {
+                    atts.push(a);
+                    atts.len() - 1
+                });
+            }
+        };
+        for &(u, v) in chains.iter().chain(&bridges) {
+            add(u, &mut atts);
+            add(v, &mut atts);
+        }
+        for &a in &ends {
+            add(a, &mut atts);
+        }
+        // doubles for the triangulation (from the filter's enclosures); the
+        // exact positions only where the filter cannot orient a triangle
+        let approx: Vec<[f64; 2]> = atts
+            .iter()
+            .map(|&a| {
+                world
+                    .enclose(a, ti)
+                    .map(|[x, y]| [x.mid(), y.mid()])
+                    .ok_or("a finite point")
+            })
+            .collect::<Result<_, _>>()?;
+        let mut exact: Vec<Option<Point>> = vec![None; atts.len()];
+        let mut orient_exact = |u: usize, v: usize, w: usize| -> Sign {
+            if let Some(s) = world.orient_filtered(atts[u], atts[v], atts[w], ti) {
+                return s;
+            }
+            for x in [u, v, w] {
+                if exact[x].is_none() {
+                    exact[x] = world.position(atts[x], t);
+                }
+            }
+            match (&exact[u], &exact[v], &exact[w]) {
+                (Some(a), Some(b), Some(c)) => orient(a, b, c),
+                _ => Sign::Zero,
+            }
+        };
+        let mut constraints: HashSet<(usize, usize)> = HashSet::new();
+        for &(u, v) in chains.iter().chain(&bridges) {
+            if u.is_omega() || v.is_omega() {
+                continue;
+            }
+            let (x, y) = (index[&u], index[&v]);
+            if x == y {
+                return Err("a constraint of length zero".into());
+            }
+            constraints.insert((x.min(y), x.max(y)));
+        }
+        // the local triangulation, oriented exactly
+        let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut tris: Vec<[usize; 3]> = Vec::new();
+        if atts.len() >= 3 {
+            let pts: Vec<Point2<f64>> = approx.iter().map(|f| Point2::new(f[0], f[1])).collect();
+            let mut edges: Vec<[usize; 2]> = constraints.iter().map(|&(x, y)| [x, y]).collect();
+            edges.sort_unstable();
+            let mut conflict = false;
+            let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+                ConstrainedDelaunayTriangulation::try_bulk_load_cdt(pts, edges, |_| {
+                    conflict = true
+                })
+                .map_err(|e| format!("{e:?}"))?;
+            if conflict || cdt.num_vertices() != atts.len() {
+                return Err("vertices or constraints coincide after rounding".into());
+            }
+            for f in cdt.inner_faces() {
+                let [u, v, w] = f.vertices().map(|h| h.fix().index());
+                let tri = match orient_exact(u, v, w) {
+                    Sign::Positive => [u, v, w],
+                    Sign::Negative => [u, w, v],
+                    Sign::Zero => return Err("a flat triangle".into()),
+                };
+                for i in 0..3 {
+                    directed.insert((tri[i], tri[(i + 1) % 3]), tris.len());
+                }
+                tris.push(tri);
+            }
+        }
+        // the faces of R: triangles reached from the inner side of the
+        // boundary without crossing it, and ω-faces on new hull edges
+        let is_constraint = |x: usize, y: usize| constraints.contains(&(x.min(y), x.max(y)));
+        let mut inside = vec![false; tris.len()];
+        let mut hull: Vec<(usize, usize)> = Vec::new();
+        let mut stack: Vec<usize> = Vec::new();
+        let left_of = |x: usize,
+                       y: usize,
+                       inside: &mut Vec<bool>,
+                       stack: &mut Vec<usize>,
+                       hull: &mut Vec<(usize, usize)>| {
+            match directed.get(&(x, y)) {
+                Some(&f) => {
+                    if !inside[f] {
+                        inside[f] = true;
+                        stack.push(f);
+                    }
+                }
+                None => hull.push((x, y)),
+            }
+        };
+        for &(u, v) in chains.iter().chain(&bridges) {
+            if u.is_omega() || v.is_omega() {
+                continue;
+            }
+            left_of(index[&u], index[&v], &mut inside, &mut stack, &mut hull);
+        }
+        while let Some(f) = stack.pop() {
+            let tri = tris[f];
+            for i in 0..3 {
+                let (x, y) = (tri[i], tri[(i + 1) % 3]);
+                if !is_constraint(x, y) {
+                    left_of(y, x, &mut inside, &mut stack, &mut hull);
+                }
+            }
+        }
+        hull.sort_unstable();
+        hull.dedup();
+        let touches_omega = bridges.iter().any(|&(x, y)| x.is_omega() || y.is_omega());
+        if !hull.is_empty() && !touches_omega {
+            return Err("a hull edge in a bounded region".into());
+        }
+        let mut faces: Vec<[Att; 3]> = Vec::new();
+        for (f, tri) in tris.iter().enumerate() {
+            if inside[f] {
+                faces.push(tri.map(|x| atts[x]));
+            }
+        }
+        for &(x, y) in &hull {
+            faces.push([atts[x], atts[y], Att::OMEGA]);
+        }
+        let mut side_of: HashMap<(Att, Att), (usize, usize)> = HashMap::new();
+        for (fi, f) in faces.iter().enumerate() {
+            if f[0].obj == f[1].obj && f[1].obj == f[2].obj {
+                return Err("a face inside a polygon".into());
+            }
+            for i in 0..3 {
+                let (x, y) = (f[i], f[(i + 1) % 3]);
+                if x.obj == y.obj && !x.is_omega() && world.ccw(x) != y && world.ccw(y) != x {
+                    return Err("a face side cuts through a polygon".into());
+                }
+                if side_of.insert((x, y), (fi, i)).is_some() {
+                    return Err("a side in two faces".into());
+                }
+            }
+        }
+        let is_partition =
+            |f: &[Att; 3]| f[0].obj != f[1].obj && f[1].obj != f[2].obj && f[0].obj != f[2].obj;
+        let mut tri_of: HashMap<usize, usize> = HashMap::new();
+        let mut new_tris: Vec<[Att; 3]> = Vec::new();
+        for (fi, f) in faces.iter().enumerate() {
+            if is_partition(f) {
+                tri_of.insert(fi, new_tris.len());
+                new_tris.push(*f);
+            }
+        }
+        let mut dead_corrs: Vec<CorrId> = star.clone();
+        dead_corrs.extend(merged.iter().copied());
+        dead_corrs.sort_unstable();
+        dead_corrs.dedup();
+        if dead_corrs.len() != star.len() + merged.len() {
+            return Err("a corridor both on the body and beyond a bridge".into());
+        }
+        if new_tris.len() + 2 != dead_tris.len() || dead_corrs.len() < 3 {
+            return Err(format!(
+                "{} new triangles for {} removed",
+                new_tris.len(),
+                dead_tris.len()
+            ));
+        }
+        // walk the corridors: from every side of a new triangle, and from
+        // the far end of every merged corridor that stays
+        let mut starts: Vec<End> = Vec::new();
+        for (ti, _) in new_tris.iter().enumerate() {
+            for i in 0..3 {
+                starts.push(End::New(ti, i as u8));
+            }
+        }
+        for &k in &merged {
+            let c = &self.corrs[k.0 as usize];
+            for e in [c.s, c.t] {
+                if !dead_set.contains(&e.0) {
+                    starts.push(End::Old(e.0, e.1));
+                }
+            }
+        }
+        let corner = |e: End, i: usize| match e {
+            End::New(ti, j) => new_tris[ti][(j as usize + i) % 3],
+            End::Old(tri, j) => self.corner(tri, j as usize + i),
+        };
+        let mut assigned: HashMap<End, usize> = HashMap::new();
+        let mut used: HashSet<CorrId> = HashSet::new();
+        let mut new_corrs: Vec<PlannedCorr> = Vec::new();
+        let limit = faces.len() + 2 * merged.len() + 4;
+        for &start in &starts {
+            if assigned.contains_key(&start) {
+                continue;
+            }
+            let (p0, q0) = (corner(start, 0), corner(start, 1));
+            if p0.is_omega() {
+                continue;
+            }
+            let (mut len_a, mut len_b) = (0u32, 0u32);
+            let (mut x, mut y) = (p0, q0);
+            // from a triangle that stays, the walk begins inside the merged
+            // corridor across its side
+            let mut through: Option<Portal> = match start {
+                End::New(..) => None,
+                End::Old(tri, j) => {
+                    let k = self.tris[tri.0 as usize].corr[j as usize];
+                    Some((k, self.corrs[k.0 as usize].s == (tri, j)))
+                }
+            };
+            let mut steps = 0;
+            let end = loop {
+                steps += 1;
+                if steps > limit {
+                    return Err("a corridor walk does not end".into());
+                }
+                if let Some((k, at_s)) = through.take() {
+                    if !used.insert(k) {
+                        return Err(format!("corridor {k:?} merged twice"));
+                    }
+                    let c = &self.corrs[k.0 as usize];
+                    let (a_s, b_s, a_t, b_t) = self.ends(k);
+                    let (out, la, lb) = if at_s {
+                        ((a_t, b_t, c.t), c.len_a, c.len_b)
+                    } else {
+                        ((b_s, a_s, c.s), c.len_b, c.len_a)
+                    };
+                    len_a += la;
+                    len_b += lb;
+                    (x, y) = (out.0, out.1);
+                    if !dead_set.contains(&out.2 .0) {
+                        break End::Old(out.2 .0, out.2 .1);
+                    }
+                    continue;
+                }
+                if let Some(&(fi, sj)) = side_of.get(&(y, x)) {
+                    let g = &faces[fi];
+                    if let Some(&ti) = tri_of.get(&fi) {
+                        break End::New(ti, sj as u8);
+                    }
+                    let (s1, s2) = ((sj + 1) % 3, (sj + 2) % 3);
+                    let side = |k: usize| (g[k], g[(k + 1) % 3]);
+                    let (edge, exit) = if side(s1).0.obj == side(s1).1.obj {
+                        (s1, s2)
+                    } else {
+                        (s2, s1)
+                    };
+                    if side(edge).0.obj == p0.obj {
+                        len_a += 1;
+                    } else {
+                        len_b += 1;
+                    }
+                    (x, y) = side(exit);
+                } else if let Some(&portal) = portal.get(&(y, x)) {
+                    through = Some(portal);
+                } else {
+                    return Err("a corridor walk left the region".into());
+                }
+            };
+            let j = new_corrs.len();
+            for e in [start, end] {
+                if assigned.insert(e, j).is_some() {
+                    return Err("a triangle side in two corridors".into());
+                }
+            }
+            new_corrs.push(PlannedCorr {
+                a: p0.obj,
+                b: q0.obj,
+                s: start,
+                t: end,
+                len_a,
+                len_b,
+            });
+        }
+        if used.len() != merged.len() {
+            return Err("a corridor beyond a bridge was not merged".into());
+        }
+        if new_corrs.len() + 3 != dead_corrs.len() {
+            return Err(format!(
+                "{} new corridors for {} removed",
+                new_corrs.len(),
+                dead_corrs.len()
+            ));
+        }
+        let mut new_tri_corr = vec![[usize::MAX; 3]; new_tris.len()];
+        let mut far = Vec::new();
+        for (&e, &j) in &assigned {
+            match e {
+                End::New(ti, i) => new_tri_corr[ti][i as usize] = j,
+                End::Old(tri, i) => far.push((tri, i, j)),
+            }
+        }
+        if new_tri_corr.iter().flatten().any(|&j| j == usize::MAX) {
+            return Err("a new triangle side without corridor".into());
+        }
+        far.sort_unstable();
+        Ok(RemovalPlan {
+            dead_tris,
+            dead_corrs,
+            new_tris,
+            new_tri_corr,
+            new_corrs,
+            far,
+        })
+    }
+
+    /// Apply a removal plan: the new triangles and corridors take the
+    /// lowest freed slots, the triangles that stay point to the new
+    /// corridors, and the last triangles and corridors move into the slots
+    /// left over (every reference to them follows).
+    pub fn apply_removal(&mut self, plan: RemovalPlan) -> Spliced {
+        let tri_id = |ti: usize| plan.dead_tris[ti];
+        let corr_id = |j: usize| plan.dead_corrs[j];
+        let end = |e: End| match e {
+            End::New(ti, i) => (tri_id(ti), i),
+            End::Old(tri, i) => (tri, i),
+        };
+        for (ti, c) in plan.new_tris.iter().enumerate() {
+            self.tris[tri_id(ti).0 as usize] = PartitionTriangle {
+                c: *c,
+                corr: plan.new_tri_corr[ti].map(corr_id),
+            };
+        }
+        for (j, c) in plan.new_corrs.iter().enumerate() {
+            let k = corr_id(j);
+            self.held.remove(&k);
+            self.corrs[k.0 as usize] = Corridor {
+                a: c.a,
+                b: c.b,
+                s: end(c.s),
+                t: end(c.t),
+                len_a: c.len_a,
+                len_b: c.len_b,
+                mid: None,
+            };
+        }
+        for &(tri, i, j) in &plan.far {
+            self.tris[tri.0 as usize].corr[i as usize] = corr_id(j);
+        }
+        let mut out = Spliced {
+            tris: (0..plan.new_tris.len()).map(tri_id).collect(),
+            corrs: (0..plan.new_corrs.len()).map(corr_id).collect(),
+            ..Default::default()
+        };
+        // the freed triangle slots left over are filled from the end
+        let free: Vec<u32> = plan.dead_tris[plan.new_tris.len()..]
+            .iter()
+            .map(|t| t.0)
+            .collect();
+        let len = self.tris.len() as u32 - free.len() as u32;
+        let sources = (len..self.tris.len() as u32).filter(|x| !free.contains(x));
+        let holes = free.iter().copied().filter(|&x| x < len);
+        for (src, dst) in sources.zip(holes) {
+            let tri = self.tris[src as usize].clone();
+            for i in 0..3 {
+                let c = &mut self.corrs[tri.corr[i].0 as usize];
+                let here = (TriId(src), i as u8);
+                if c.s == here {
+                    c.s = (TriId(dst), i as u8);
+                }
+                if c.t == here {
+                    c.t = (TriId(dst), i as u8);
+                }
+            }
+            self.tris[dst as usize] = tri;
+            out.moved_tris.push((TriId(src), TriId(dst)));
+        }
+        self.tris.truncate(len as usize);
+        let free: Vec<u32> = plan.dead_corrs[plan.new_corrs.len()..]
+            .iter()
+            .map(|k| k.0)
+            .collect();
+        for &k in &free {
+            self.held.remove(&CorrId(k));
+        }
+        let len = self.corrs.len() as u32 - free.len() as u32;
+        let sources = (len..self.corrs.len() as u32).filter(|x| !free.contains(x));
+        let holes = free.iter().copied().filter(|&x| x < len);
+        for (src, dst) in sources.zip(holes) {
+            let c = self.corrs[src as usize].clone();
+            self.tris[c.s.0 .0 as usize].corr[c.s.1 as usize] = CorrId(dst);
+            self.tris[c.t.0 .0 as usize].corr[c.t.1 as usize] = CorrId(dst);
+            if let Some(h) = self.held.remove(&CorrId(src)) {
+                self.held.insert(CorrId(dst), h);
+            }
+            self.corrs[dst as usize] = c;
+            out.moved_corrs.push((CorrId(src), CorrId(dst)));
+        }
+        self.corrs.truncate(len as usize);
+        out
+    }
+}

@@ -1,0 +1,105 @@
+//! `remove` mode: a polygon that collides leaves the structure in place
+//! (only the triangles and corridors around it are rebuilt, see
+//! `structure/remove.rs`), with the same events as the brute-force
+//! reference and the audit after every event.
+
+use kss::gen::{gas, generate_small, Family, GasParams};
+use kss::num::Time;
+use kss::CollisionMode;
+use kss::{run, RunOptions, RunStats, Scenario, StructureKind};
+
+type Events = Vec<(Time, String, String)>;
+
+fn events(s: &Scenario, structure: StructureKind, audit: bool) -> (Events, RunStats) {
+    let mut out = Vec::new();
+    let opts = RunOptions {
+        structure,
+        audit,
+        ..Default::default()
+    };
+    let stats = run(s, &opts, &mut |e| {
+        out.push((e.time.clone(), e.a.clone(), e.b.clone()))
+    })
+    .unwrap_or_else(|e| panic!("{} fails: {e}", structure.name()));
+    (out, stats)
+}
+
+/// How many polygons the run removed: both of every colliding pair except
+/// fixed ones, each once.
+fn removed(s: &Scenario, ev: &Events) -> u64 {
+    let fixed: std::collections::HashSet<&str> = s
+        .polygons
+        .iter()
+        .filter(|p| p.fixed)
+        .map(|p| p.id.as_str())
+        .collect();
+    let mut gone = std::collections::HashSet::new();
+    for (_, a, b) in ev {
+        for x in [a, b] {
+            if !fixed.contains(x.as_str()) {
+                gone.insert(x.clone());
+            }
+        }
+    }
+    gone.len() as u64
+}
+
+/// Random polygons (with and without walls): every removal is local, and
+/// the events are the reference's.
+#[test]
+fn removals_in_a_gas_are_local() {
+    let mut total = 0;
+    for seed in 0..12 {
+        let s = gas(&GasParams {
+            k: 40,
+            min_n: 3,
+            max_n: 10,
+            walls: seed % 2 == 0,
+            mode: CollisionMode::Remove,
+            until: 6.0,
+            max_speed: 1.0,
+            changes: 4,
+            seed,
+        });
+        let (want, _) = events(&s, StructureKind::Brute, false);
+        for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
+            let (got, stats) = events(&s, structure, true);
+            assert_eq!(got, want, "{} on gas seed {seed}", structure.name());
+            assert_eq!(
+                stats.local_removals,
+                removed(&s, &want),
+                "{} on gas seed {seed}: removals not done in place",
+                structure.name()
+            );
+            assert_eq!(stats.rebuilds, 0, "{} on gas seed {seed}", structure.name());
+        }
+        total += removed(&s, &want);
+    }
+    assert!(total >= 100, "only {total} removals exercised");
+}
+
+/// The small scenarios of the differential tests in `remove` mode, the
+/// degenerate families included (simultaneous contacts, grazing, sliding):
+/// the same events as the reference, and nearly every removal in place
+/// (a removal at an instant where the local triangulation is not valid for
+/// the exact coordinates, as when polygons touch there, rebuilds).
+#[test]
+fn removals_in_small_scenarios_are_mostly_local() {
+    let (mut local, mut all) = (0u64, 0u64);
+    for family in Family::ALL {
+        for seed in 0..150 {
+            let s = generate_small(family, seed);
+            if s.on_collision != CollisionMode::Remove {
+                continue;
+            }
+            let (want, _) = events(&s, StructureKind::Brute, false);
+            let (got, stats) = events(&s, StructureKind::Plain, true);
+            assert_eq!(got, want, "plain on {} seed {seed}", family.name());
+            local += stats.local_removals;
+            all += removed(&s, &want);
+        }
+    }
+    eprintln!("{local} of {all} removals in place");
+    assert!(all >= 200, "only {all} removals exercised");
+    assert!(local * 20 >= all * 19, "{local} of {all} removals in place");
+}
