@@ -685,7 +685,7 @@ fn write_report(
             format!("cannot write results to {}: {e}", out.display()),
         )
     })?;
-    print!("{}", kss_bench::report::markdown(run, machine));
+    write_output(None, &kss_bench::report::markdown(run, machine))?;
     for f in &files {
         eprintln!("kss bench: wrote {}", f.display());
     }
@@ -727,13 +727,14 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::new(ErrorKind::Usage, e))?;
     }
     if args.list {
+        let mut text = String::new();
         for w in &config.workloads {
-            println!("workload {}", w.name());
+            text.push_str(&format!("workload {}\n", w.name()));
         }
         for m in &config.methods {
-            println!("method {}", m.name());
+            text.push_str(&format!("method {}\n", m.name()));
         }
-        return Ok(());
+        return write_output(None, &text);
     }
     let exe = std::env::current_exe().map_err(|e| {
         CliError::new(

@@ -821,6 +821,22 @@ fn run_survives_a_closed_pipe() {
     assert_eq!(o.status.code(), Some(0));
 }
 
+#[test]
+fn bench_list_survives_a_closed_pipe() {
+    // `kss bench --list | head -1`: the reader is gone before the list is
+    // written (the process takes longer to start than the drop below)
+    let mut child = kss()
+        .args(["bench", "--list"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(0));
+}
+
 /// `kss render` of the two triangles (`stop` mode) at `time` with
 /// `structure`: the process output and the SVG written.
 fn render_two_triangles(time: &str, structure: &str) -> (std::process::Output, String) {
