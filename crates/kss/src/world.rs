@@ -582,12 +582,19 @@ impl World {
         let mut outside = false;
         let mut edges = Vec::new();
         let exp = for_each_minkowski_edge(&ba.shape, &bb.shape, |e| edges.push(e));
-        let unit = Rational::from_dyadic(Int::ONE, exp);
+        // d · n against h · 2^exp in integers: both sides times the positive
+        // xd · yd · 2^max(−exp, 0) (no rational arithmetic, no gcd per edge)
+        let (xn, xd) = (d.x.numer(), d.x.denom());
+        let (yn, yd) = (d.y.numer(), d.y.denom());
+        let den = xd * yd;
+        let (lshift, rshift) = if exp < 0 {
+            ((-exp) as usize, 0)
+        } else {
+            (0, exp as usize)
+        };
         for e in edges {
-            let lhs =
-                d.x.mul(&Rational::from_int(e.nx.clone()))
-                    .add(&d.y.mul(&Rational::from_int(e.ny.clone())));
-            let rhs = Rational::from_int(e.h).mul(&unit);
+            let lhs = (xn * &e.nx * yd + yn * &e.ny * xd) << lshift;
+            let rhs = (&e.h * &den) << rshift;
             match lhs.cmp(&rhs) {
                 std::cmp::Ordering::Greater => outside = true,
                 std::cmp::Ordering::Equal => {
@@ -635,10 +642,13 @@ impl World {
             return ba.traj.position_at(t).add(&ba.centroid).to_f64();
         };
         let (na, nb) = (ba.shape.len(), bb.shape.len());
-        // every vertex position once (each candidate is tested against every edge)
-        let va: Vec<Point> = (0..na).map(|i| ba.vertex_at(i, t)).collect();
-        let vb: Vec<Point> = (0..nb).map(|j| bb.vertex_at(j, t)).collect();
-        let mut candidates: Vec<Point> = Vec::new();
+        // every vertex as a moving point (integer polynomials), its signs
+        // taken exactly at `t` (the interval filter first): no rational
+        // positions but the few averaged at the end
+        let va: Vec<LinearPoint> = (0..na).map(|i| ba.vertex(i)).collect();
+        let vb: Vec<LinearPoint> = (0..nb).map(|j| bb.vertex(j)).collect();
+        let tt = Time::from_rational(t.clone());
+        let mut candidates: Vec<LinearPoint> = Vec::new();
         for (source, other) in &c.features {
             match *source {
                 Ok(j) => {
@@ -653,17 +663,20 @@ impl World {
                 }
             }
         }
-        let inside = |vs: &[Point], p: &Point| {
+        let inside = |vs: &[LinearPoint], p: &LinearPoint| {
             let n = vs.len();
-            (0..n).all(|i| crate::geom::orient(&vs[i], &vs[(i + 1) % n], p) != Sign::Negative)
+            (0..n).all(|i| {
+                crate::motion::orient_poly(&vs[i], &vs[(i + 1) % n], p).sign_at(&tt)
+                    != Sign::Negative
+            })
         };
         let on_both: Vec<[f64; 2]> = candidates
             .iter()
             .filter(|p| inside(&va, p) && inside(&vb, p))
-            .map(|p| p.to_f64())
+            .map(|p| p.at(t).to_f64())
             .collect();
         if on_both.is_empty() {
-            return candidates[0].to_f64();
+            return candidates[0].at(t).to_f64();
         }
         centroid_f64(&on_both)
     }

@@ -168,21 +168,22 @@ fn slides_on_edge(world: &Geo, u: Att, w: Att, t: &Time) -> bool {
 /// certificates are linear).
 pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
     let tiv = t.interval();
-    let t = t.as_rational()?;
+    t.as_rational()?;
     // the vertex z of one body and an edge endpoint x of the other
     let (z, x) = (0..3).find_map(|i| {
         let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
         (x.obj == y.obj && z.obj != x.obj && poly_edge(world, x, y)).then_some((z, x))
     })?;
     let near = |a: Att| [world.cw(a, 1), a, world.ccw(a)];
-    let pos = |a: Att| super::build::position(world, a, t).expect("finite");
+    // exact signs at `t` from the moving points' integer polynomials (no
+    // rational positions: no gcd)
     let touches = |u: Att, e0: Att, e1: Att| {
         if world.orient_filtered(e0, e1, u, tiv).is_some() {
             return false;
         }
-        let (pu, p0, p1) = (pos(u), pos(e0), pos(e1));
-        crate::geom::orient(&p0, &p1, &pu) == crate::num::Sign::Zero
-            && p0.sub(&pu).dot(&p1.sub(&pu)).sign() != crate::num::Sign::Positive
+        let (pu, p0, p1) = (world.point(u), world.point(e0), world.point(e1));
+        crate::motion::orient_poly(&p0, &p1, &pu).sign_at(t) == crate::num::Sign::Zero
+            && crate::motion::dot_poly(&pu, &p0, &p1).sign_at(t) != crate::num::Sign::Positive
     };
     for (a, b) in [(z, x), (x, z)] {
         let nb = near(b);
