@@ -103,3 +103,45 @@ fn removals_in_small_scenarios_are_mostly_local() {
     assert!(all >= 200, "only {all} removals exercised");
     assert!(local * 20 >= all * 19, "{local} of {all} removals in place");
 }
+
+/// Two rows of unit squares with collinear edges (every bottom and top edge
+/// on one of four lines) and one square dropped onto the lower row: the
+/// local triangulation gets the nearest doubles, so collinear vertices stay
+/// collinear there and both removals are local (with rounded enclosure
+/// midpoints they became thin slivers, flat in exact coordinates, and the
+/// removal rebuilt; found in review).
+#[test]
+fn removal_among_collinear_squares_is_local() {
+    let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let mut polygons = Vec::new();
+    let mut add = |x: f64, y: f64, vy: f64| {
+        polygons.push(kss::PolygonSpec {
+            id: format!("p{}", polygons.len()),
+            vertices: square.clone(),
+            position: [x, y],
+            velocity: [0.0, vy],
+            fixed: false,
+        })
+    };
+    for i in 0..8 {
+        add(3.0 * i as f64, 0.0, 0.0);
+    }
+    add(9.0, 5.0, -1.0);
+    for i in 0..8 {
+        add(3.0 * i as f64 + 0.5, 10.0, 0.0);
+    }
+    let s = Scenario {
+        until: 10.0,
+        on_collision: CollisionMode::Remove,
+        polygons,
+        flight_plan_changes: Vec::new(),
+    };
+    let (want, _) = events(&s, StructureKind::Brute, false);
+    assert_eq!(want.len(), 1);
+    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
+        let (got, stats) = events(&s, structure, true);
+        assert_eq!(got, want, "{}", structure.name());
+        assert_eq!(stats.local_removals, 2, "{}", structure.name());
+        assert_eq!(stats.rebuilds, 0, "{}", structure.name());
+    }
+}

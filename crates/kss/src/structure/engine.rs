@@ -678,11 +678,17 @@ impl Kinetic {
                 return Ok(false);
             }
         }
+        // (an error here leaves the structure half changed: the caller
+        // rebuilds it)
         for &tri in &spliced.tris {
-            self.refresh(world, Owner::Tri(tri), now)?;
+            if self.refresh(world, Owner::Tri(tri), now).is_err() {
+                return Ok(false);
+            }
         }
         for &k in &spliced.corrs {
-            self.refresh(world, Owner::Corr(k), now)?;
+            if self.refresh(world, Owner::Corr(k), now).is_err() {
+                return Ok(false);
+            }
         }
         // (certificates taken over as they were: if one fails now, it did
         // before the removal too, and is handled as an event of this instant)

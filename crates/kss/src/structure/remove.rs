@@ -174,30 +174,19 @@ impl Kss {
         for &a in &ends {
             add(a, &mut atts);
         }
-        // doubles for the triangulation (from the filter's enclosures); the
-        // exact positions only where the filter cannot orient a triangle
-        let approx: Vec<[f64; 2]> = atts
+        // the nearest doubles for the triangulation (as the construction
+        // does: collinear inputs stay collinear when they are doubles); the
+        // exact positions are kept for the orientation tests the filter
+        // cannot decide
+        let exact: Vec<Point> = atts
             .iter()
-            .map(|&a| {
-                world
-                    .enclose(a, ti)
-                    .map(|[x, y]| [x.mid(), y.mid()])
-                    .ok_or("a finite point")
-            })
+            .map(|&a| world.position(a, t).ok_or("a finite point"))
             .collect::<Result<_, _>>()?;
-        let mut exact: Vec<Option<Point>> = vec![None; atts.len()];
-        let mut orient_exact = |u: usize, v: usize, w: usize| -> Sign {
-            if let Some(s) = world.orient_filtered(atts[u], atts[v], atts[w], ti) {
-                return s;
-            }
-            for x in [u, v, w] {
-                if exact[x].is_none() {
-                    exact[x] = world.position(atts[x], t);
-                }
-            }
-            match (&exact[u], &exact[v], &exact[w]) {
-                (Some(a), Some(b), Some(c)) => orient(a, b, c),
-                _ => Sign::Zero,
+        let approx: Vec<[f64; 2]> = exact.iter().map(Point::to_f64).collect();
+        let orient_exact = |u: usize, v: usize, w: usize| -> Sign {
+            match world.orient_filtered(atts[u], atts[v], atts[w], ti) {
+                Some(s) => s,
+                None => orient(&exact[u], &exact[v], &exact[w]),
             }
         };
         let mut constraints: HashSet<(usize, usize)> = HashSet::new();
@@ -227,11 +216,22 @@ impl Kss {
             if conflict || cdt.num_vertices() != atts.len() {
                 return Err("vertices or constraints coincide after rounding".into());
             }
+            // a constraint through a vertex is split by spade without a
+            // conflict: the flood fill would cross it
+            let fix = spade::handles::FixedVertexHandle::from_index;
+            if constraints
+                .iter()
+                .any(|&(x, y)| !cdt.exists_constraint(fix(x), fix(y)))
+            {
+                return Err("a constraint passes through a vertex after rounding".into());
+            }
             for f in cdt.inner_faces() {
                 let [u, v, w] = f.vertices().map(|h| h.fix().index());
                 let tri = match orient_exact(u, v, w) {
                     Sign::Positive => [u, v, w],
-                    Sign::Negative => [u, w, v],
+                    // spade's faces are counter-clockwise in doubles: the
+                    // rounded triangulation is not valid exactly
+                    Sign::Negative => return Err("a triangle inverted by rounding".into()),
                     Sign::Zero => return Err("a flat triangle".into()),
                 };
                 for i in 0..3 {
