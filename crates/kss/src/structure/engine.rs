@@ -607,12 +607,14 @@ impl Kinetic {
     }
 
     /// Remove body `b` (already dead in `world`; every other body seen as
-    /// the structure sees it) at `now` in place ([`Kss::removal_plan`]):
-    /// the certificates of the triangles and corridors that go are dropped,
-    /// the new ones normalized and scheduled, and the slots renumbered.
-    /// Returns `false` when the removal cannot be done locally (the caller
-    /// rebuilds; the structure may then be half changed); the new
-    /// certificates must all hold just after `now`.
+    /// the structure sees it) at `now` in place ([`Kss::removal_plan`],
+    /// [`Kss::apply_removal`]): the slots are renumbered, the new corridors
+    /// normalized, and their certificates and the new triangles' scheduled
+    /// (those that the triangles and corridors that went also had are taken
+    /// over, the others dropped). Returns `false` when the removal cannot
+    /// be done locally (the caller rebuilds; the structure may then be half
+    /// changed), in particular when a new certificate fails at once that
+    /// is neither taken over nor held by normalization.
     pub fn remove_body(&mut self, world: &Geo, b: BodyId, now: &Time) -> Result<bool, String> {
         if self.broken.is_some() {
             return Ok(false);
