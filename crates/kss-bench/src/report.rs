@@ -1304,7 +1304,7 @@ pub fn merge(runs: Vec<BenchRun>) -> Option<BenchRun> {
     Some(out)
 }
 
-/// Reads the `bench.json` files written by [`write`] and merges their runs
+/// Reads the `bench.json` files written by [`write()`] and merges their runs
 /// ([`merge`]); the machine is the first file's.
 pub fn read_runs(paths: &[PathBuf]) -> std::io::Result<(BenchRun, Machine)> {
     #[derive(Deserialize)]

@@ -369,7 +369,7 @@ impl Kss {
 
     /// Which bridge end the failure of junction `p` of corridor `k` (with
     /// `middle` between the other two) moves: `(bridge, from, to, onto)`
-    /// for [`Kss::slide_bridge`].
+    /// for `Kss::slide_bridge`.
     pub fn junction_plan(
         &self,
         world: &Geo,

@@ -170,7 +170,7 @@ pub type Popper<'p> = &'p mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String
 
 /// Pop the approximations of bodies `a` and `b` where, just after `t`, an
 /// approximation edge of one slides along a vertex of the other or the
-/// other way round (see [`sliding`]), until they do not; the number of
+/// other way round (see `sliding`), until they do not; the number of
 /// pops. Used after a collision response, when the pair may go on sliding
 /// along each other.
 pub fn unslide_after(
