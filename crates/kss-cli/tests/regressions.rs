@@ -8,7 +8,9 @@
 //! instant with another collision; an approximation edge left sliding along
 //! a real vertex after a pop, or after a bounce; a rebuild for just after an
 //! instant where two polygons slide along each other, or three meet at a
-//! point, which the builder could not triangulate). Each must give byte-identical
+//! point, which the builder could not triangulate; a pop next to a corridor
+//! whose chain wraps the whole popped polygon, after local removals, the
+//! quick bench's grazing-p50). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};

@@ -815,7 +815,14 @@ impl Engine for KineticEngine {
                     .motion_changed(&geo, now, &alive)
                     .map_err(RunError::Internal)?;
             } else {
-                self.k.rebuild(&geo, t).map_err(RunError::Internal)?;
+                // at the instant itself, or, where that fails (other
+                // polygons touch there), for just after it: every contact
+                // of the instant has been reported before the response
+                if let Err(_e) = self.k.rebuild(&geo, t) {
+                    self.k
+                        .rebuild_after(&geo, now, "degenerate_rebuild")
+                        .map_err(|r| RunError::Internal(format!("{_e}; then {r}")))?;
+                }
                 *self.k.counts.entry("rebuild").or_default() += 1;
             }
         } else {

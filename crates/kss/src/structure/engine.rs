@@ -287,11 +287,10 @@ impl Kinetic {
     /// Rebuild the structure from scratch at `t` (after polygons were removed)
     /// and schedule its certificates.
     pub fn rebuild(&mut self, world: &Geo, t: &Rational) -> Result<(), String> {
-        let counts = std::mem::take(&mut self.counts);
-        let max_active = self.max_active;
-        *self = Kinetic::new(world, t)?;
-        self.counts = counts;
-        self.max_active = self.max_active.max(max_active);
+        let mut fresh = Kinetic::new(world, t)?;
+        fresh.counts = std::mem::take(&mut self.counts);
+        fresh.max_active = fresh.max_active.max(self.max_active);
+        *self = fresh;
         Ok(())
     }
 
