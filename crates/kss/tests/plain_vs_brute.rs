@@ -5,26 +5,11 @@
 //! sweeps 100,000 scenarios instead of the CI subset.
 
 use kss::gen::{generate_small, Family};
-use kss::num::Time;
-use kss::{run, RunOptions, Scenario, StructureKind};
+use kss::StructureKind;
 
-type Events = Vec<(Time, String, String)>;
+mod common;
 
-/// The events of a run and how often the structure was rebuilt at a
-/// degenerate instant.
-fn events(s: &Scenario, structure: StructureKind, audit: bool) -> Result<(Events, u64), String> {
-    let mut out = Vec::new();
-    let opts = RunOptions {
-        structure,
-        audit,
-        ..Default::default()
-    };
-    let stats = run(s, &opts, &mut |e| {
-        out.push((e.time.clone(), e.a.clone(), e.b.clone()))
-    })
-    .map_err(|e| e.to_string())?;
-    Ok((out, stats.degenerate_rebuilds))
-}
+use common::events;
 
 fn seeds() -> u64 {
     match std::env::var("KSS_SLOW") {
@@ -104,8 +89,8 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
         for seed in 0..seeds() {
             let s = generate_small(family, seed);
             let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
-            let got = events(&s, structure, true).map(|(got, r)| {
-                rebuilds += r;
+            let got = events(&s, structure, true).map(|(got, stats)| {
+                rebuilds += stats.degenerate_rebuilds;
                 got
             });
             total += 1;

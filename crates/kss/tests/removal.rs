@@ -4,24 +4,16 @@
 //! reference and the audit after every event.
 
 use kss::gen::{gas, generate_small, Family, GasParams};
-use kss::num::Time;
-use kss::CollisionMode;
-use kss::{run, RunOptions, RunStats, Scenario, StructureKind};
+use kss::{CollisionMode, RunStats, Scenario, StructureKind};
 
-type Events = Vec<(Time, String, String)>;
+mod common;
 
+use common::Events;
+
+/// [`common::events`], which must succeed.
 fn events(s: &Scenario, structure: StructureKind, audit: bool) -> (Events, RunStats) {
-    let mut out = Vec::new();
-    let opts = RunOptions {
-        structure,
-        audit,
-        ..Default::default()
-    };
-    let stats = run(s, &opts, &mut |e| {
-        out.push((e.time.clone(), e.a.clone(), e.b.clone()))
-    })
-    .unwrap_or_else(|e| panic!("{} fails: {e}", structure.name()));
-    (out, stats)
+    common::events(s, structure, audit)
+        .unwrap_or_else(|e| panic!("{} fails: {e}", structure.name()))
 }
 
 /// How many polygons the run removed: both of every colliding pair except

@@ -202,8 +202,6 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
             side_of.insert((f[i], f[(i + 1) % 3]), (fi, i));
         }
     }
-    let is_partition =
-        |f: &[Att; 3]| f[0].obj != f[1].obj && f[1].obj != f[2].obj && f[0].obj != f[2].obj;
     let mut tri_id: HashMap<usize, TriId> = HashMap::new();
     let mut kss = Kss::default();
     for (fi, f) in faces.iter().enumerate() {
@@ -236,21 +234,13 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
                 if is_partition(g) {
                     break (tri_id[&fj], sj as u8);
                 }
-                // a two-object face: one polygon edge, and the other bridge to exit by
-                let (s1, s2) = ((sj + 1) % 3, (sj + 2) % 3);
-                let side = |k: usize| (g[k], g[(k + 1) % 3]);
-                let (edge, exit) = if side(s1).0.obj == side(s1).1.obj {
-                    (s1, s2)
-                } else {
-                    (s2, s1)
-                };
-                if side(edge).0.obj == p.obj {
+                let on_a;
+                ((x, y), on_a) = cross_two_object_face(g, sj, p.obj);
+                if on_a {
                     len_a += 1;
                 } else {
                     len_b += 1;
                 }
-                // exits are A-first: the next face holds the side as (y, x)
-                (x, y) = side(exit);
             };
             let k = CorrId(kss.corrs.len() as u32);
             kss.corrs.push(Corridor {
@@ -272,6 +262,28 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
         ));
     }
     Ok(kss)
+}
+
+/// Whether a face of the free-space triangulation has its corners on three
+/// different objects (a partition triangle).
+pub(super) fn is_partition(f: &[Att; 3]) -> bool {
+    f[0].obj != f[1].obj && f[1].obj != f[2].obj && f[0].obj != f[2].obj
+}
+
+/// One step of a corridor walk through a two-object face `g` entered across
+/// its side `sj`: the face has one polygon edge and one other bridge to
+/// leave by. Returns that exit side, A-first (the next face holds it as
+/// `(y, x)`), and whether the polygon edge is on object `a` (the corridor's
+/// A-chain) rather than on the other one.
+pub(super) fn cross_two_object_face(g: &[Att; 3], sj: usize, a: Obj) -> ((Att, Att), bool) {
+    let (s1, s2) = ((sj + 1) % 3, (sj + 2) % 3);
+    let side = |k: usize| (g[k], g[(k + 1) % 3]);
+    let (edge, exit) = if side(s1).0.obj == side(s1).1.obj {
+        (s1, s2)
+    } else {
+        (s2, s1)
+    };
+    (side(exit), side(edge).0.obj == a)
 }
 
 /// Remove the triangles that are flat for the exact coordinates. Rounding to

@@ -287,11 +287,16 @@ impl Kinetic {
     /// Rebuild the structure from scratch at `t` (after polygons were removed)
     /// and schedule its certificates.
     pub fn rebuild(&mut self, world: &Geo, t: &Rational) -> Result<(), String> {
-        let mut fresh = Kinetic::new(world, t)?;
+        let fresh = Kinetic::new(world, t)?;
+        self.replace_with(fresh);
+        Ok(())
+    }
+
+    /// Become `fresh`, keeping the event counts and the largest queue size.
+    fn replace_with(&mut self, mut fresh: Kinetic) {
         fresh.counts = std::mem::take(&mut self.counts);
         fresh.max_active = fresh.max_active.max(self.max_active);
         *self = fresh;
-        Ok(())
     }
 
     fn schedule_everything(&mut self, world: &Geo, now: &Time) -> Result<(), String> {
@@ -350,16 +355,13 @@ impl Kinetic {
                 Some(old) if old.sign != c.sign => *old,
                 _ => c,
             };
-            // a certificate left without owners (a removal in progress) is
-            // taken over only as it is
-            if self
-                .certs
-                .get(&c.p)
-                .is_some_and(|s| s.owners.is_empty() && s.cert != c)
-            {
-                self.drop_cert(&c.p);
-            }
             match self.certs.get_mut(&c.p) {
+                // a certificate left without owners (a removal in progress)
+                // is taken over only as it is
+                Some(s) if s.owners.is_empty() && s.cert != c => {
+                    self.drop_cert(&c.p);
+                    self.schedule_new(world, c, o, now);
+                }
                 Some(s) if s.cert.sign != c.sign => {
                     if self.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
                         return Err(format!(
@@ -377,21 +379,7 @@ impl Kinetic {
                         s.owners.push(o);
                     }
                 }
-                None => {
-                    let key = failure_time(world, &c, now)
-                        .map(|t| self.queue.schedule(t, tie(world, &c.p), c.p));
-                    for b in bodies_of(&c.p) {
-                        self.by_body.entry(b).or_default().insert(c.p);
-                    }
-                    self.certs.insert(
-                        c.p,
-                        Scheduled {
-                            cert: c,
-                            key,
-                            owners: vec![o],
-                        },
-                    );
-                }
+                None => self.schedule_new(world, c, o, now),
             }
             mine.push(c.p);
         }
@@ -401,6 +389,23 @@ impl Kinetic {
         }
         self.max_active = self.max_active.max(self.queue.len());
         Ok(())
+    }
+
+    /// Schedule certificate `c`, not yet known, for owner `o`.
+    fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) {
+        let key =
+            failure_time(world, &c, now).map(|t| self.queue.schedule(t, tie(world, &c.p), c.p));
+        for b in bodies_of(&c.p) {
+            self.by_body.entry(b).or_default().insert(c.p);
+        }
+        self.certs.insert(
+            c.p,
+            Scheduled {
+                cert: c,
+                key,
+                owners: vec![o],
+            },
+        );
     }
 
     /// Whether the certificate on `p` (queued under `key`) can be failing at
@@ -620,13 +625,7 @@ impl Kinetic {
         }
         if world.bodies().iter().filter(|x| x.alive).count() < 2 {
             // nothing stays to separate: the empty structure
-            let counts = std::mem::take(&mut self.counts);
-            let max_active = self.max_active;
-            *self = Kinetic {
-                counts,
-                max_active,
-                ..Default::default()
-            };
+            self.replace_with(Kinetic::default());
             *self.counts.entry("local_remove").or_default() += 1;
             return Ok(true);
         }
@@ -987,10 +986,8 @@ impl Kinetic {
                     for p in &keys {
                         fresh.reschedule(world, p, now);
                     }
-                    fresh.counts = std::mem::take(&mut self.counts);
-                    fresh.max_active = fresh.max_active.max(self.max_active);
-                    *fresh.counts.entry(kind).or_default() += 1;
-                    *self = fresh;
+                    self.replace_with(fresh);
+                    *self.counts.entry(kind).or_default() += 1;
                     return Ok(());
                 }
             }

@@ -25,6 +25,7 @@ use std::collections::{HashMap, HashSet};
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
+use super::build::{cross_two_object_face, is_partition};
 use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
 use crate::geom::{orient, Point};
@@ -306,8 +307,6 @@ impl Kss {
                 }
             }
         }
-        let is_partition =
-            |f: &[Att; 3]| f[0].obj != f[1].obj && f[1].obj != f[2].obj && f[0].obj != f[2].obj;
         let mut tri_of: HashMap<usize, usize> = HashMap::new();
         let mut new_tris: Vec<[Att; 3]> = Vec::new();
         for (fi, f) in faces.iter().enumerate() {
@@ -403,19 +402,13 @@ impl Kss {
                     if let Some(&ti) = tri_of.get(&fi) {
                         break End::New(ti, sj as u8);
                     }
-                    let (s1, s2) = ((sj + 1) % 3, (sj + 2) % 3);
-                    let side = |k: usize| (g[k], g[(k + 1) % 3]);
-                    let (edge, exit) = if side(s1).0.obj == side(s1).1.obj {
-                        (s1, s2)
-                    } else {
-                        (s2, s1)
-                    };
-                    if side(edge).0.obj == p0.obj {
+                    let on_a;
+                    ((x, y), on_a) = cross_two_object_face(g, sj, p0.obj);
+                    if on_a {
                         len_a += 1;
                     } else {
                         len_b += 1;
                     }
-                    (x, y) = side(exit);
                 } else if let Some(&portal) = portal.get(&(y, x)) {
                     through = Some(portal);
                 } else {
