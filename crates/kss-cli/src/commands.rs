@@ -146,6 +146,8 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "refine_rebuilds": stats.refine_rebuilds,
         "merges": stats.merges,
         "local_removals": stats.local_removals,
+        "stand_ins": stats.stand_ins,
+        "stand_in_ends": stats.stand_in_ends,
         "wall_seconds": wall_seconds,
     });
     let mut s = serde_json::to_string_pretty(&v).expect("stats serialize");

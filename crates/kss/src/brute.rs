@@ -74,6 +74,23 @@ impl ContactInterval {
     }
 }
 
+impl ContactInterval {
+    /// Whether the pair shares a point on a whole interval that begins at
+    /// `now` (it rests or slides in contact just after `now`), and if so
+    /// the end of that interval (`None`: never, on the current motions).
+    pub fn rests_after(&self, now: &Rational) -> Option<Option<Rational>> {
+        match self {
+            ContactInterval::During { start, end, .. }
+                if start.as_ref().is_none_or(|s| s <= now)
+                    && end.as_ref().is_none_or(|e| e > now) =>
+            {
+                Some(end.clone())
+            }
+            _ => None,
+        }
+    }
+}
+
 /// Relative motion `d(t) = pos_a(t) − pos_b(t) = d0 + w·t`.
 fn relative_motion(world: &World, a: BodyId, b: BodyId) -> (Point, Point) {
     let (ba, bb) = (world.body(a), world.body(b));
@@ -366,6 +383,14 @@ pub struct Brute {
 impl Brute {
     /// Compute every pair's next collision at time 0.
     pub fn new(world: &World, method: PairMethod) -> Brute {
+        Brute::new_at(world, method, &Rational::zero())
+    }
+
+    /// Compute every pair's next collision at or after `now`, on the
+    /// world's current motions: a pair that touches at `now` collides then
+    /// only if its interiors overlap right after `now` (the rule of
+    /// [`ContactInterval::next_contact`]).
+    pub fn new_at(world: &World, method: PairMethod, now: &Rational) -> Brute {
         let mut brute = Brute {
             method,
             queue: BTreeSet::new(),
@@ -373,11 +398,10 @@ impl Brute {
             max_queued: 0,
             pair_computations: 0,
         };
-        let now = Rational::zero();
         let n = world.len() as u32;
         for i in 0..n {
             for j in i + 1..n {
-                brute.recompute(world, &now, BodyId(i), BodyId(j));
+                brute.recompute(world, now, BodyId(i), BodyId(j));
             }
         }
         brute

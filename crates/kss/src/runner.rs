@@ -10,6 +10,14 @@ use crate::structure::geo::{Geo, Shapes};
 use crate::structure::{refine, Att, Obj};
 use crate::world::{BodyId, World};
 
+/// Debug output for `--features trace` builds only.
+macro_rules! trace {
+    ($($arg:tt)*) => {
+        #[cfg(feature = "trace")]
+        eprintln!($($arg)*);
+    };
+}
+
 /// Which kinetic structure computes the collisions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum StructureKind {
@@ -100,6 +108,13 @@ pub struct RunStats {
     /// Polygons removed in place (`remove` mode), without a rebuild (0 for
     /// `brute`).
     pub local_removals: u64,
+    /// Times the reference stood in for the kinetic structure because two
+    /// polygons stayed in contact where the structure had to be built
+    /// afresh (0 for `brute`; see ARCHITECTURE.md, "Resting contacts").
+    pub stand_ins: u64,
+    /// Times the structure, built afresh, took over again from the
+    /// reference (once no pair rested in contact at an update).
+    pub stand_in_ends: u64,
 }
 
 /// Why a run could not complete.
@@ -316,6 +331,12 @@ trait Engine {
     fn local_removals(&self) -> u64 {
         0
     }
+
+    /// Times the reference stood in for the structure, and times the
+    /// structure took over again.
+    fn stand_ins(&self) -> (u64, u64) {
+        (0, 0)
+    }
 }
 
 struct BruteEngine(Brute);
@@ -391,6 +412,65 @@ struct KineticEngine {
     /// collision only if they interpenetrate just after it (a contact that
     /// began with the old motions was reported before the change).
     responded: Option<Responded>,
+    /// Approximations (`hierarchical`) or the polygons themselves (`plain`).
+    hierarchical: bool,
+    /// The instant of the latest [`Engine::update`] (0 before the first).
+    last_update: Rational,
+    /// The reference, standing in while polygons rest in contact (see
+    /// [`KineticEngine::stand_in`]).
+    stand_in: Option<StandIn>,
+}
+
+/// The reference engine standing in for the kinetic structure while two
+/// polygons rest (or slide) in contact and no structure can be built.
+struct StandIn {
+    brute: Brute,
+    /// The pairs in contact on an interval that begins at the latest
+    /// update, with the end of that interval (`None`: on the current
+    /// motions, never).
+    resting: BTreeMap<(BodyId, BodyId), Option<Rational>>,
+}
+
+/// The pairs of `world` that are in contact on a whole interval beginning
+/// at `t`, among those that involve a body of `bodies` (every pair when
+/// `bodies` is `None`), with the end of that interval.
+fn resting_pairs(
+    world: &World,
+    bodies: Option<&[BodyId]>,
+    t: &Rational,
+) -> Vec<((BodyId, BodyId), Option<Rational>)> {
+    let n = world.len() as u32;
+    let mut out = Vec::new();
+    let mut test = |a: BodyId, b: BodyId| {
+        if a == b || !world.pair_active(a, b) {
+            return;
+        }
+        let key = (a.min(b), a.max(b));
+        if let Some(end) =
+            crate::brute::contact_interval(world, key.0, key.1, PairMethod::Fast).rests_after(t)
+        {
+            out.push((key, end));
+        }
+    };
+    match bodies {
+        None => {
+            for i in 0..n {
+                for j in i + 1..n {
+                    test(BodyId(i), BodyId(j));
+                }
+            }
+        }
+        Some(bodies) => {
+            for &c in bodies {
+                for o in 0..n {
+                    test(c, BodyId(o));
+                }
+            }
+        }
+    }
+    out.sort_by_key(|x| x.0);
+    out.dedup_by(|x, y| x.0 == y.0);
+    out
 }
 
 /// The pairs that had a collision response at an instant and the bodies
@@ -406,11 +486,36 @@ impl KineticEngine {
             pops = refine::separate_all_at(world, &mut shapes, &Rational::zero())
                 .map_err(RunError::Internal)?;
         }
-        let geo = Geo {
-            world,
-            shapes: &shapes,
-        };
-        let mut k = Kinetic::new(&geo, &Rational::zero()).map_err(RunError::Internal)?;
+        let mut k = Kinetic::new(
+            &Geo {
+                world,
+                shapes: &shapes,
+            },
+            &Rational::zero(),
+        );
+        // the hierarchy: an approximation point can sit on another body's
+        // line for ever (their motions parallel), where the normalization
+        // finds no decomposition; refine every approximation one level and
+        // try again (at worst the polygons themselves: plain's construction)
+        while let Err(e) = &k {
+            let popped = if hierarchical {
+                refine::pop_every_level(world, &mut shapes)
+            } else {
+                0
+            };
+            if popped == 0 {
+                return Err(RunError::Internal(e.clone()));
+            }
+            pops += popped;
+            k = Kinetic::new(
+                &Geo {
+                    world,
+                    shapes: &shapes,
+                },
+                &Rational::zero(),
+            );
+        }
+        let mut k = k.map_err(RunError::Internal)?;
         if pops > 0 {
             *k.counts.entry("initial_pop").or_default() += pops;
         }
@@ -420,6 +525,9 @@ impl KineticEngine {
             audit,
             contact_instant: None,
             responded: None,
+            hierarchical,
+            last_update: Rational::zero(),
+            stand_in: None,
         })
     }
 
@@ -628,8 +736,242 @@ impl KineticEngine {
     }
 }
 
+impl KineticEngine {
+    /// Where no structure can be built for just after an instant because
+    /// two polygons stay in contact there (a resting or sliding contact
+    /// that a rebuild meets: the pseudo-triangulation needs a free space
+    /// that is not pinched), the reference takes over from the latest
+    /// update, when the world's motions were last changed, until no pair
+    /// rests in contact at an update. Any other failure stays an error.
+    /// Counted in `--stats` as `stand_ins`.
+    fn stand_in(&mut self, world: &World, error: String) -> Result<(), RunError> {
+        let Some(at) = self.k.unbuildable.take() else {
+            return Err(RunError::Internal(error));
+        };
+        let Some(at) = at.as_rational() else {
+            return Err(RunError::Internal(error));
+        };
+        let resting = resting_pairs(world, None, at);
+        if resting.is_empty() {
+            // the hierarchy: approximations may stay in contact where the
+            // polygons do not; refine them until they are strictly apart
+            if self.hierarchical && self.rebuild_refined(world, &Time::from_rational(at.clone())) {
+                return Ok(());
+            }
+            return Err(RunError::Internal(error));
+        }
+        trace!(
+            "no structure after {}: {} pairs rest in contact; the reference stands in",
+            at.to_f64(),
+            resting.len()
+        );
+        self.stand_in = Some(StandIn {
+            brute: Brute::new_at(world, PairMethod::Fast, &self.last_update),
+            resting: resting.into_iter().collect(),
+        });
+        *self.k.counts.entry("stand_in").or_default() += 1;
+        Ok(())
+    }
+
+    /// After an update at `now` with the reference standing in: once no
+    /// pair rests in contact, build the structure afresh for just after
+    /// `now` (fresh approximations for the hierarchy) and hand back to it.
+    /// Stays with the reference if that fails.
+    fn end_stand_in(&mut self, world: &World, now: &Time) {
+        let Some(s) = &mut self.stand_in else {
+            return;
+        };
+        let r = now.as_rational().expect("rational update instants");
+        s.resting
+            .retain(|_, end| end.as_ref().is_none_or(|e| e > r));
+        if !s.resting.is_empty() {
+            return;
+        }
+        let mut shapes = Shapes::default();
+        if self.hierarchical {
+            shapes = refine::coarsest_shapes(world);
+            if refine::separate_all_strictly_after(world, &mut shapes, now).is_err() {
+                return;
+            }
+        }
+        let geo = Geo {
+            world,
+            shapes: &shapes,
+        };
+        match self.k.rebuild_after(&geo, now, "stand_in_end") {
+            Ok(()) => {
+                self.shapes = shapes;
+                self.stand_in = None;
+                self.contact_instant = None;
+            }
+            Err(_e) => {
+                trace!("the structure cannot take over at {}: {_e}", now.to_f64());
+                self.k.unbuildable = None;
+            }
+        }
+    }
+
+    /// The hierarchy, where no structure was found for just after `t` and
+    /// no two polygons stay in contact there: pop approximations until
+    /// every two are strictly apart just after `t` and rebuild (counted as
+    /// `refine_rebuild`); whether that worked. (Approximations may lie
+    /// flush, or touch at a point, where the polygons only touched at `t`.)
+    fn rebuild_refined(&mut self, world: &World, t: &Time) -> bool {
+        let mut shapes = self.shapes.clone();
+        let Ok(pops) = refine::separate_all_strictly_after(world, &mut shapes, t) else {
+            return false;
+        };
+        if pops == 0 {
+            return false;
+        }
+        let geo = Geo {
+            world,
+            shapes: &shapes,
+        };
+        match self.k.rebuild_after(&geo, t, "refine_rebuild") {
+            Ok(()) => {
+                *self.k.counts.entry("pop").or_default() += pops;
+                self.shapes = shapes;
+                true
+            }
+            Err(_e) => {
+                trace!("no refined rebuild at {}: {_e}", t.to_f64());
+                self.k.unbuildable = None;
+                false
+            }
+        }
+    }
+}
+
 impl Engine for KineticEngine {
     fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
+        if let Some(s) = &mut self.stand_in {
+            return Ok(s.brute.next_collisions(limit));
+        }
+        match self.kinetic_next_collisions(world, limit) {
+            Err(RunError::Internal(e)) => {
+                self.stand_in(world, e)?;
+                self.next_collisions(world, limit)
+            }
+            other => other,
+        }
+    }
+
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        let r = now
+            .as_rational()
+            .ok_or_else(|| RunError::Internal("irrational world time".into()))?
+            .clone();
+        self.last_update = r.clone();
+        if let Some(s) = &mut self.stand_in {
+            s.brute.update(world, &r, bodies, reported);
+            let mut touched: Vec<BodyId> = bodies.to_vec();
+            touched.extend(reported.iter().flat_map(|&(a, b)| [a, b]));
+            touched.sort();
+            touched.dedup();
+            s.resting.retain(|&(a, b), _| {
+                world.pair_active(a, b) && !touched.contains(&a) && !touched.contains(&b)
+            });
+            s.resting.extend(resting_pairs(world, Some(&touched), &r));
+            self.end_stand_in(world, now);
+            return Ok(());
+        }
+        match self.kinetic_update(world, now, bodies, reported) {
+            Err(RunError::Internal(e)) => self.stand_in(world, e),
+            other => other,
+        }
+    }
+
+    fn next_time(&self) -> Option<Time> {
+        match &self.stand_in {
+            Some(s) => s.brute.next_time().cloned(),
+            None => self.k.next_time().cloned(),
+        }
+    }
+
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        match &self.stand_in {
+            Some(s) => {
+                let now = now.as_rational().ok_or("irrational world time")?;
+                s.brute.audit(world, now, at)
+            }
+            None => self.audit_at(world, now, at),
+        }
+    }
+
+    fn certificates(&self) -> (u64, u64) {
+        let (now, max) = self.k.active();
+        match &self.stand_in {
+            // the reference's queued pair times stand in for certificates
+            Some(s) => (
+                s.brute.queued() as u64,
+                (max as u64).max(s.brute.max_queued() as u64),
+            ),
+            None => (now as u64, max as u64),
+        }
+    }
+
+    fn internal_events(&self) -> BTreeMap<String, u64> {
+        // `repair` (a normalization that had to search), `rebuild` (after a
+        // removal) and `degenerate_rebuild` are not certificate failures:
+        // not counted as events (see `rebuilds`)
+        self.k
+            .counts
+            .iter()
+            .filter(|(k, _)| {
+                !matches!(
+                    **k,
+                    "repair"
+                        | "rebuild"
+                        | "degenerate_rebuild"
+                        | "refine_rebuild"
+                        | "local_pop"
+                        | "local_remove"
+                        | "merge"
+                        | "stand_in"
+                        | "stand_in_end"
+                )
+            })
+            .map(|(k, v)| (k.to_string(), *v))
+            .collect()
+    }
+
+    fn rebuilds(&self) -> (u64, u64, u64) {
+        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
+        (
+            get("rebuild"),
+            get("degenerate_rebuild"),
+            get("refine_rebuild"),
+        )
+    }
+
+    fn merges(&self) -> u64 {
+        self.k.counts.get("merge").copied().unwrap_or(0)
+    }
+
+    fn local_removals(&self) -> u64 {
+        self.k.counts.get("local_remove").copied().unwrap_or(0)
+    }
+
+    fn stand_ins(&self) -> (u64, u64) {
+        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
+        (get("stand_in"), get("stand_in_end"))
+    }
+}
+
+impl KineticEngine {
+    /// [`Engine::next_collisions`] on the structure.
+    fn kinetic_next_collisions(
+        &mut self,
+        world: &World,
+        limit: &Time,
+    ) -> Result<Collisions, RunError> {
         let mut contacts: Vec<(BodyId, BodyId)> = Vec::new();
         let mut at: Option<Time> = None;
         let mut ops_now = 0u64;
@@ -760,7 +1102,8 @@ impl Engine for KineticEngine {
         Ok(at.map(|t| (t, contacts)))
     }
 
-    fn update(
+    /// [`Engine::update`] on the structure.
+    fn kinetic_update(
         &mut self,
         world: &World,
         now: &Time,
@@ -836,59 +1179,6 @@ impl Engine for KineticEngine {
             self.refine_responded(world, now, reported)?;
         }
         Ok(())
-    }
-
-    fn next_time(&self) -> Option<Time> {
-        self.k.next_time().cloned()
-    }
-
-    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
-        self.audit_at(world, now, at)
-    }
-
-    fn certificates(&self) -> (u64, u64) {
-        let (now, max) = self.k.active();
-        (now as u64, max as u64)
-    }
-
-    fn internal_events(&self) -> BTreeMap<String, u64> {
-        // `repair` (a normalization that had to search), `rebuild` (after a
-        // removal) and `degenerate_rebuild` are not certificate failures:
-        // not counted as events (see `rebuilds`)
-        self.k
-            .counts
-            .iter()
-            .filter(|(k, _)| {
-                !matches!(
-                    **k,
-                    "repair"
-                        | "rebuild"
-                        | "degenerate_rebuild"
-                        | "refine_rebuild"
-                        | "local_pop"
-                        | "local_remove"
-                        | "merge"
-                )
-            })
-            .map(|(k, v)| (k.to_string(), *v))
-            .collect()
-    }
-
-    fn rebuilds(&self) -> (u64, u64, u64) {
-        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
-        (
-            get("rebuild"),
-            get("degenerate_rebuild"),
-            get("refine_rebuild"),
-        )
-    }
-
-    fn merges(&self) -> u64 {
-        self.k.counts.get("merge").copied().unwrap_or(0)
-    }
-
-    fn local_removals(&self) -> u64 {
-        self.k.counts.get("local_remove").copied().unwrap_or(0)
     }
 }
 
@@ -1018,6 +1308,7 @@ fn drive(
     ) = engine.rebuilds();
     stats.merges = engine.merges();
     stats.local_removals = engine.local_removals();
+    (stats.stand_ins, stats.stand_in_ends) = engine.stand_ins();
     stats.collisions = collisions;
     stats.max_number_bits = max_bits;
     Ok(stats)

@@ -64,6 +64,9 @@ pub struct Kinetic {
     broken: Option<&'static str>,
     /// Internal events by kind.
     pub counts: BTreeMap<&'static str, u64>,
+    /// The instant of the latest [`Kinetic::rebuild_after`] that found no
+    /// structure (polygons may rest in contact there; the driver decides).
+    pub unbuildable: Option<Time>,
     /// The corridors the last operation touched (where coarsening is tried).
     last_touched: Vec<CorrId>,
     /// Rotates the coarsening candidates.
@@ -993,6 +996,7 @@ impl Kinetic {
             }
             hi = at_t;
         }
+        self.unbuildable = Some(now.clone());
         Err(format!("no rebuild just after t = {now} found"))
     }
 

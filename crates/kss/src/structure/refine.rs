@@ -281,6 +281,53 @@ pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Resu
     Ok(pops)
 }
 
+/// Pop every approximation vertex of every body once (one level finer
+/// everywhere); the number of pops.
+pub fn pop_every_level(world: &World, shapes: &mut Shapes) -> u64 {
+    let mut todo = Vec::new();
+    {
+        let geo = Geo { world, shapes };
+        for (i, body) in world.bodies().iter().enumerate() {
+            let id = BodyId(i as u32);
+            if body.alive && shapes.per.get(i).is_some_and(Option::is_some) {
+                todo.extend(
+                    geo.ids(id)
+                        .into_iter()
+                        .map(|v| Att::vertex(id, v))
+                        .filter(|&a| !geo.is_real(a)),
+                );
+            }
+        }
+    }
+    todo.into_iter().map(|a| u64::from(pop(shapes, a))).sum()
+}
+
+/// Pop approximations until every two are strictly apart (closed sets
+/// disjoint) just after `t`; the number of pops. For a structure built
+/// afresh for just after an instant at which no two polygons stay in
+/// contact (the approximations of polygons that touch at `t` may still
+/// touch, or lie flush, just after it, and no free-space triangulation
+/// exists then). Fails if two polygons do stay in contact.
+pub fn separate_all_strictly_after(
+    world: &World,
+    shapes: &mut Shapes,
+    t: &Time,
+) -> Result<u64, String> {
+    let r = t.as_rational().ok_or("irrational time")?;
+    let mut pops = 0;
+    for pair in box_pairs(world, shapes, r) {
+        pops += separate(
+            world,
+            shapes,
+            pair,
+            &|geo, u, v, w| turn_after(geo, u, v, w, t),
+            None,
+            &mut |shapes, x| Ok(pop(shapes, x)),
+        )?;
+    }
+    Ok(pops)
+}
+
 /// For the audit: every two approximations have disjoint interiors at time
 /// `t` (they may touch where the polygons slide along each other).
 pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), String> {
