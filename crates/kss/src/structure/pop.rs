@@ -570,6 +570,19 @@ impl Kss {
             if c[0].obj == c[1].obj || c[1].obj == c[2].obj || c[0].obj == c[2].obj {
                 return false;
             }
+            // no side crosses the polygon at the opposite corner (the sign
+            // pattern alone let a pop through with a side across it:
+            // gen_small grazing 2529, hierarchical)
+            for i in 0..3 {
+                let (x, p, q) = (c[i], c[(i + 1) % 3], c[(i + 2) % 3]);
+                if let (Obj::Body(b), false, false) = (x.obj, p.is_omega(), q.is_omega()) {
+                    if segment_crosses(geo, b, p, q, &sign) {
+                        #[cfg(feature = "trace")]
+                        eprintln!("  triangle {}: side {p:?}-{q:?} crosses body {}", ti.0, b.0);
+                        return false;
+                    }
+                }
+            }
         }
         for &k in corrs {
             let c = &self.corrs[k.0 as usize];
@@ -601,6 +614,39 @@ impl Kss {
         }
         true
     }
+}
+
+/// Whether the segment `pq` (points of other objects) meets the interior of
+/// body `b` as `geo` sees it, by the signs `sign` (exact, at or just beside
+/// an instant): no separating line among the segment's line and the
+/// body's edge lines.
+fn segment_crosses(
+    geo: &Geo,
+    b: crate::world::BodyId,
+    p: Att,
+    q: Att,
+    sign: &dyn Fn([Att; 3]) -> Sign,
+) -> bool {
+    let ring: Vec<Att> = geo.ids(b).into_iter().map(|v| Att::vertex(b, v)).collect();
+    let m = ring.len();
+    // the segment's line: the body on one closed side
+    let (mut pos, mut neg) = (false, false);
+    for &v in &ring {
+        match sign([p, q, v]) {
+            Sign::Positive => pos = true,
+            Sign::Negative => neg = true,
+            Sign::Zero => {}
+        }
+    }
+    if !(pos && neg) {
+        return false;
+    }
+    // an edge line (counter-clockwise ring: outside is negative) with both
+    // ends of the segment on its closed outer side
+    !(0..m).any(|j| {
+        let (u, w) = (ring[j], ring[(j + 1) % m]);
+        sign([u, w, p]) != Sign::Positive && sign([u, w, q]) != Sign::Positive
+    })
 }
 
 #[cfg(test)]
