@@ -10,7 +10,11 @@
 //! instant where two polygons slide along each other, or three meet at a
 //! point, which the builder could not triangulate; a pop next to a corridor
 //! whose chain wraps the whole popped polygon, after local removals, the
-//! quick bench's grazing-p50). Each must give byte-identical
+//! quick bench's grazing-p50; a polygon resting on another where the
+//! structure must be built afresh, where the reference stands in; a pop
+//! that put a partition triangle's side across a polygon; a middle bridge
+//! along flush edges of both its bodies, which hid a contact on that line,
+//! the two scenarios once kept as known failures). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};
@@ -106,17 +110,4 @@ fn a_pop_that_inverts_a_triangle_is_repaired_in_place() {
         v["events_by_kind"]["pop"].as_u64().unwrap_or(0) > 0,
         "{text}"
     );
-}
-
-/// Known failures, kept so that they are not forgotten: every
-/// `testdata/known-failures/NAME.json` is a scenario on which a structure
-/// still disagrees with the reference (see ARCHITECTURE.md, the hierarchy's
-/// known failure). Run with `--ignored`; move a file to `regressions/` once
-/// it passes.
-#[test]
-#[ignore = "known failures (issue 4 open): hierarchical misses a contact where a middle bridge runs along two flush edges"]
-fn known_failures_agree_with_the_reference() {
-    for f in &scenarios_in("known-failures") {
-        assert_structures_agree(f, &run(f, "brute"));
-    }
 }

@@ -170,12 +170,20 @@ impl Kss {
 
     /// Check that every face of every corridor between two bodies is a
     /// pseudo-triangle just after time `t`: exactly three convex vertices,
-    /// every other vertex reflex.
+    /// every other vertex reflex; and that no middle bridge runs along
+    /// flush edges of both its bodies.
     pub fn check_faces(&self, world: &Geo, t: &Time) -> Result<(), String> {
         for ki in 0..self.corrs.len() {
             let k = CorrId(ki as u32);
             if self.corrs[ki].b == Obj::Omega {
                 continue;
+            }
+            if let Some(mid) = self.corrs[ki].mid {
+                if self.bridge_over_flush_edges(world, k, mid, (t, super::local::Side::After)) {
+                    return Err(format!(
+                        "corridor {ki}: the middle bridge runs along flush edges of both bodies"
+                    ));
+                }
             }
             for (fi, face) in self.corridor_faces(world, k).iter().enumerate() {
                 let n = face.len();

@@ -319,6 +319,11 @@ impl Kss {
                 return false;
             }
         }
+        if let (true, Some((i, j))) = (clear, mid) {
+            if c.b != Obj::Omega && self.bridge_over_flush_edges(world, k, (i, j), (t, side)) {
+                return false;
+            }
+        }
         let shapes = self.faces_with(world, k, mid);
         for (fi, face) in self.junctions_with(world, k, mid).into_iter().enumerate() {
             let Some(js) = face else {
@@ -372,6 +377,34 @@ impl Kss {
             }
         }
         true
+    }
+
+    /// Whether middle bridge `(i, j)` of corridor `k` runs along an edge of
+    /// *each* of its bodies just on `side` of `t`: a neighbour of each end
+    /// lies strictly inside the bridge. The two inner vertices then sit in
+    /// different faces and no certificate sees them meet (issue 4's known
+    /// failure: a contact on that line missed); the tangent bridge between
+    /// the inner vertices is the one to take.
+    pub(crate) fn bridge_over_flush_edges(
+        &self,
+        world: &Geo,
+        k: CorrId,
+        (i, j): (u32, u32),
+        (t, side): (&Time, Side),
+    ) -> bool {
+        let (a_s, _, _, b_t) = self.ends(k);
+        let alpha = step_cw(world, a_s, i);
+        let beta = step_cw(world, b_t, j);
+        let inside = |x: Att, y: Att| {
+            [step_ccw(world, x), step_cw(world, x, 1)]
+                .into_iter()
+                .any(|n| {
+                    n != x
+                        && turn_on(world, x, n, y, t, side) == Sign::Zero
+                        && between_on(world, x, n, y, t, side)
+                })
+        };
+        inside(alpha, beta) && inside(beta, alpha)
     }
 
     /// The certificates owned by partition triangle `t`.
