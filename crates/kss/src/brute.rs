@@ -76,13 +76,18 @@ impl ContactInterval {
 
 impl ContactInterval {
     /// Whether the pair shares a point on a whole interval that begins at
-    /// `now` (it rests or slides in contact just after `now`), and if so
-    /// the end of that interval (`None`: never, on the current motions).
+    /// `now` without their interiors overlapping (it rests or slides in
+    /// contact just after `now`), and if so the end of that interval
+    /// (`None`: never, on the current motions). A pair whose interiors
+    /// overlap is a collision, not a resting contact.
     pub fn rests_after(&self, now: &Rational) -> Option<Option<Rational>> {
         match self {
-            ContactInterval::During { start, end, .. }
-                if start.as_ref().is_none_or(|s| s <= now)
-                    && end.as_ref().is_none_or(|e| e > now) =>
+            ContactInterval::During {
+                start,
+                end,
+                penetrating: false,
+            } if start.as_ref().is_none_or(|s| s <= now)
+                && end.as_ref().is_none_or(|e| e > now) =>
             {
                 Some(end.clone())
             }
@@ -534,3 +539,35 @@ impl Brute {
 
 /// Counters by event kind (for statistics).
 pub type KindCounts = BTreeMap<String, u64>;
+
+#[cfg(test)]
+mod tests {
+    use super::ContactInterval;
+    use crate::num::Rational;
+
+    fn r(n: i64) -> Rational {
+        Rational::from_int(n.into())
+    }
+
+    #[test]
+    fn a_resting_or_sliding_pair_rests_and_an_overlapping_one_does_not() {
+        let during = |start: Option<i64>, end: Option<i64>, penetrating| ContactInterval::During {
+            start: start.map(r),
+            end: end.map(r),
+            penetrating,
+        };
+        // in contact from 1 on, for ever, or until 5
+        assert_eq!(during(Some(1), None, false).rests_after(&r(1)), Some(None));
+        assert_eq!(
+            during(Some(1), Some(5), false).rests_after(&r(3)),
+            Some(Some(r(5)))
+        );
+        // the contact ends at the instant, or begins later
+        assert_eq!(during(Some(1), Some(3), false).rests_after(&r(3)), None);
+        assert_eq!(during(Some(4), None, false).rests_after(&r(3)), None);
+        // interiors that overlap: a collision (one a structure may have
+        // missed), never a resting contact
+        assert_eq!(during(Some(1), None, true).rests_after(&r(1)), None);
+        assert_eq!(ContactInterval::Never.rests_after(&r(1)), None);
+    }
+}

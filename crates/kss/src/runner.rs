@@ -760,13 +760,31 @@ impl KineticEngine {
             }
             return Err(RunError::Internal(error));
         }
+        // only a collision response leaves two polygons in contact without a
+        // collision that ends the run or removes one of them
+        if world.mode() != CollisionMode::Bounce {
+            return Err(RunError::Internal(error));
+        }
+        let brute = Brute::new_at(world, PairMethod::Fast, &self.last_update);
+        // the structure went through every instant before `at` (and, at an
+        // `at` after the latest update, classified its contacts before any
+        // rebuild): a reference collision there is one it missed, not a
+        // resting contact
+        if let Some(t) = brute.next_time() {
+            let at_t = Time::from_rational(at.clone());
+            if *t < at_t || (*t == at_t && *at > self.last_update) {
+                return Err(RunError::Internal(format!(
+                    "{error}; the structure missed a collision at t = {t}"
+                )));
+            }
+        }
         trace!(
             "no structure after {}: {} pairs rest in contact; the reference stands in",
             at.to_f64(),
             resting.len()
         );
         self.stand_in = Some(StandIn {
-            brute: Brute::new_at(world, PairMethod::Fast, &self.last_update),
+            brute,
             resting: resting.into_iter().collect(),
         });
         *self.k.counts.entry("stand_in").or_default() += 1;
@@ -776,23 +794,22 @@ impl KineticEngine {
     /// After an update at `now` with the reference standing in: once no
     /// pair rests in contact, build the structure afresh for just after
     /// `now` (fresh approximations for the hierarchy) and hand back to it.
-    /// Stays with the reference if that fails.
-    fn end_stand_in(&mut self, world: &World, now: &Time) {
+    /// No pair rests, so a failure is not a resting contact: an error.
+    fn end_stand_in(&mut self, world: &World, now: &Time) -> Result<(), RunError> {
         let Some(s) = &mut self.stand_in else {
-            return;
+            return Ok(());
         };
         let r = now.as_rational().expect("rational update instants");
         s.resting
             .retain(|_, end| end.as_ref().is_none_or(|e| e > r));
         if !s.resting.is_empty() {
-            return;
+            return Ok(());
         }
         let mut shapes = Shapes::default();
         if self.hierarchical {
             shapes = refine::coarsest_shapes(world);
-            if refine::separate_all_strictly_after(world, &mut shapes, now).is_err() {
-                return;
-            }
+            refine::separate_all_strictly_after(world, &mut shapes, now)
+                .map_err(RunError::Internal)?;
         }
         let geo = Geo {
             world,
@@ -803,43 +820,55 @@ impl KineticEngine {
                 self.shapes = shapes;
                 self.stand_in = None;
                 self.contact_instant = None;
+                Ok(())
             }
-            Err(_e) => {
-                trace!("the structure cannot take over at {}: {_e}", now.to_f64());
+            Err(e) => {
                 self.k.unbuildable = None;
+                Err(RunError::Internal(format!(
+                    "no pair rests in contact, yet the structure cannot take over: {e}"
+                )))
             }
         }
     }
 
     /// The hierarchy, where no structure was found for just after `t` and
     /// no two polygons stay in contact there: pop approximations until
-    /// every two are strictly apart just after `t` and rebuild (counted as
-    /// `refine_rebuild`); whether that worked. (Approximations may lie
-    /// flush, or touch at a point, where the polygons only touched at `t`.)
+    /// every two are strictly apart just after `t`, or, where they are, one
+    /// level finer everywhere (an approximation vertex on another body's
+    /// line for ever defeats the normalization), and rebuild (counted as
+    /// `refine_rebuild`), a few rounds at most; whether that worked.
+    /// (Approximations may lie flush, or touch at a point, where the
+    /// polygons only touched at `t`.)
     fn rebuild_refined(&mut self, world: &World, t: &Time) -> bool {
         let mut shapes = self.shapes.clone();
-        let Ok(pops) = refine::separate_all_strictly_after(world, &mut shapes, t) else {
-            return false;
-        };
-        if pops == 0 {
-            return false;
-        }
-        let geo = Geo {
-            world,
-            shapes: &shapes,
-        };
-        match self.k.rebuild_after(&geo, t, "refine_rebuild") {
-            Ok(()) => {
-                *self.k.counts.entry("pop").or_default() += pops;
-                self.shapes = shapes;
-                true
+        let mut total = 0;
+        for _ in 0..4 {
+            let pops = match refine::separate_all_strictly_after(world, &mut shapes, t) {
+                Ok(0) => refine::pop_every_level(world, &mut shapes),
+                Ok(pops) => pops,
+                Err(_) => return false,
+            };
+            if pops == 0 {
+                return false;
             }
-            Err(_e) => {
-                trace!("no refined rebuild at {}: {_e}", t.to_f64());
-                self.k.unbuildable = None;
-                false
+            total += pops;
+            let geo = Geo {
+                world,
+                shapes: &shapes,
+            };
+            match self.k.rebuild_after(&geo, t, "refine_rebuild") {
+                Ok(()) => {
+                    *self.k.counts.entry("pop").or_default() += total;
+                    self.shapes = shapes;
+                    return true;
+                }
+                Err(_e) => {
+                    trace!("no refined rebuild at {}: {_e}", t.to_f64());
+                    self.k.unbuildable = None;
+                }
             }
         }
+        false
     }
 }
 
@@ -869,6 +898,16 @@ impl Engine for KineticEngine {
             .ok_or_else(|| RunError::Internal("irrational world time".into()))?
             .clone();
         self.last_update = r.clone();
+        // kept while the reference stands in too: a hand-over at `now` is
+        // followed by the structure's own updates at `now`
+        let pairs = reported.iter().map(|&(a, b)| (a.min(b), a.max(b)));
+        match &mut self.responded {
+            Some((t, v, moved)) if t == now => {
+                v.extend(pairs);
+                moved.extend_from_slice(bodies);
+            }
+            r => *r = Some((now.clone(), pairs.collect(), bodies.to_vec())),
+        }
         if let Some(s) = &mut self.stand_in {
             s.brute.update(world, &r, bodies, reported);
             let mut touched: Vec<BodyId> = bodies.to_vec();
@@ -879,8 +918,7 @@ impl Engine for KineticEngine {
                 world.pair_active(a, b) && !touched.contains(&a) && !touched.contains(&b)
             });
             s.resting.extend(resting_pairs(world, Some(&touched), &r));
-            self.end_stand_in(world, now);
-            return Ok(());
+            return self.end_stand_in(world, now);
         }
         match self.kinetic_update(world, now, bodies, reported) {
             Err(RunError::Internal(e)) => self.stand_in(world, e),
@@ -1110,14 +1148,6 @@ impl KineticEngine {
         bodies: &[BodyId],
         reported: &[(BodyId, BodyId)],
     ) -> Result<(), RunError> {
-        let pairs = reported.iter().map(|&(a, b)| (a.min(b), a.max(b)));
-        match &mut self.responded {
-            Some((t, v, moved)) if t == now => {
-                v.extend(pairs);
-                moved.extend_from_slice(bodies);
-            }
-            r => *r = Some((now.clone(), pairs.collect(), bodies.to_vec())),
-        }
         if bodies.iter().any(|&b| !world.body(b).alive) {
             let t = now
                 .as_rational()

@@ -392,19 +392,27 @@ impl Kss {
         (i, j): (u32, u32),
         (t, side): (&Time, Side),
     ) -> bool {
+        let c = &self.corrs[k.0 as usize];
         let (a_s, _, _, b_t) = self.ends(k);
         let alpha = step_cw(world, a_s, i);
         let beta = step_cw(world, b_t, j);
-        let inside = |x: Att, y: Att| {
-            [step_ccw(world, x), step_cw(world, x, 1)]
-                .into_iter()
-                .any(|n| {
-                    n != x
-                        && turn_on(world, x, n, y, t, side) == Sign::Zero
-                        && between_on(world, x, n, y, t, side)
-                })
+        // an end's neighbours along its chain (only there is the bridge
+        // between the inner vertices a decomposition of the corridor too)
+        let along = |x: Att, at: u32, len: u32| {
+            [
+                (at > 0).then(|| step_ccw(world, x)),
+                (at < len).then(|| step_cw(world, x, 1)),
+            ]
         };
-        inside(alpha, beta) && inside(beta, alpha)
+        let inside = |x: Att, ns: [Option<Att>; 2], y: Att| {
+            ns.into_iter().flatten().any(|n| {
+                n != x
+                    && turn_on(world, x, n, y, t, side) == Sign::Zero
+                    && between_on(world, x, n, y, t, side)
+            })
+        };
+        inside(alpha, along(alpha, i, c.len_a), beta)
+            && inside(beta, along(beta, j, c.len_b), alpha)
     }
 
     /// The certificates owned by partition triangle `t`.
