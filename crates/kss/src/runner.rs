@@ -752,7 +752,17 @@ impl KineticEngine {
             return Err(RunError::Internal(error));
         };
         let resting = resting_pairs(world, None, at);
-        if resting.is_empty() {
+        // only a collision response leaves two polygons in contact without a
+        // collision that ends the run or removes one of them
+        let bounce = world.mode() == CollisionMode::Bounce;
+        // a response at the latest update that leaves a pair overlapping:
+        // it collides again at that instant (the reference's rule), and no
+        // structure exists before that second response
+        let again = bounce && *at == self.last_update && {
+            let brute = Brute::new_at(world, PairMethod::Fast, &self.last_update);
+            brute.next_time().and_then(Time::as_rational) == Some(at)
+        };
+        if resting.is_empty() && !again {
             // the hierarchy: approximations may stay in contact where the
             // polygons do not; refine them until they are strictly apart
             if self.hierarchical && self.rebuild_refined(world, &Time::from_rational(at.clone())) {
@@ -760,9 +770,7 @@ impl KineticEngine {
             }
             return Err(RunError::Internal(error));
         }
-        // only a collision response leaves two polygons in contact without a
-        // collision that ends the run or removes one of them
-        if world.mode() != CollisionMode::Bounce {
+        if !bounce {
             return Err(RunError::Internal(error));
         }
         let brute = Brute::new_at(world, PairMethod::Fast, &self.last_update);
@@ -802,7 +810,9 @@ impl KineticEngine {
         let r = now.as_rational().expect("rational update instants");
         s.resting
             .retain(|_, end| end.as_ref().is_none_or(|e| e > r));
-        if !s.resting.is_empty() {
+        // a pair still in contact, or one that overlaps after this
+        // response and collides again at this instant: not yet
+        if !s.resting.is_empty() || s.brute.next_time() == Some(now) {
             return Ok(());
         }
         let mut shapes = Shapes::default();
