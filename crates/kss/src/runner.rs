@@ -419,6 +419,9 @@ struct KineticEngine {
     /// The reference, standing in while polygons rest in contact (see
     /// [`KineticEngine::stand_in`]).
     stand_in: Option<StandIn>,
+    /// The most pair times the reference held while it stood in (part of
+    /// `certificates_max`).
+    stand_in_max: u64,
 }
 
 /// The reference engine standing in for the kinetic structure while two
@@ -528,6 +531,7 @@ impl KineticEngine {
             hierarchical,
             last_update: Rational::zero(),
             stand_in: None,
+            stand_in_max: 0,
         })
     }
 
@@ -828,7 +832,9 @@ impl KineticEngine {
         match self.k.rebuild_after(&geo, now, "stand_in_end") {
             Ok(()) => {
                 self.shapes = shapes;
-                self.stand_in = None;
+                if let Some(s) = self.stand_in.take() {
+                    self.stand_in_max = self.stand_in_max.max(s.brute.max_queued() as u64);
+                }
                 self.contact_instant = None;
                 Ok(())
             }
@@ -955,13 +961,14 @@ impl Engine for KineticEngine {
 
     fn certificates(&self) -> (u64, u64) {
         let (now, max) = self.k.active();
+        // the reference's queued pair times stand in for certificates
+        let max = (max as u64).max(self.stand_in_max);
         match &self.stand_in {
-            // the reference's queued pair times stand in for certificates
             Some(s) => (
                 s.brute.queued() as u64,
-                (max as u64).max(s.brute.max_queued() as u64),
+                max.max(s.brute.max_queued() as u64),
             ),
-            None => (now as u64, max as u64),
+            None => (now as u64, max),
         }
     }
 
