@@ -427,7 +427,7 @@ struct KineticEngine {
 /// The reference engine standing in for the kinetic structure while two
 /// polygons rest (or slide) in contact and no structure can be built.
 struct StandIn {
-    brute: Brute,
+    brute: BruteEngine,
     /// The pairs in contact on an interval that begins at the latest
     /// update, with the end of that interval (`None`: on the current
     /// motions, never).
@@ -465,14 +465,15 @@ fn resting_pairs(
         }
         Some(bodies) => {
             for &c in bodies {
-                for o in 0..n {
-                    test(c, BodyId(o));
+                for o in (0..n).map(BodyId) {
+                    // a pair of two listed bodies once
+                    if !(o < c && bodies.contains(&o)) {
+                        test(c, o);
+                    }
                 }
             }
         }
     }
-    out.sort_by_key(|x| x.0);
-    out.dedup_by(|x, y| x.0 == y.0);
     out
 }
 
@@ -762,10 +763,13 @@ impl KineticEngine {
         // a response at the latest update that leaves a pair overlapping:
         // it collides again at that instant (the reference's rule), and no
         // structure exists before that second response
-        let again = bounce && *at == self.last_update && {
-            let brute = Brute::new_at(world, PairMethod::Fast, &self.last_update);
-            brute.next_time().and_then(Time::as_rational) == Some(at)
-        };
+        let brute = bounce.then(|| Brute::new_at(world, PairMethod::Fast, &self.last_update));
+        let again = *at == self.last_update
+            && brute
+                .as_ref()
+                .and_then(Brute::next_time)
+                .and_then(Time::as_rational)
+                == Some(at);
         if resting.is_empty() && !again {
             // the hierarchy: approximations may stay in contact where the
             // polygons do not; refine them until they are strictly apart
@@ -774,10 +778,9 @@ impl KineticEngine {
             }
             return Err(RunError::Internal(error));
         }
-        if !bounce {
+        let Some(brute) = brute else {
             return Err(RunError::Internal(error));
-        }
-        let brute = Brute::new_at(world, PairMethod::Fast, &self.last_update);
+        };
         // the structure went through every instant before `at` (and, at an
         // `at` after the latest update, classified its contacts before any
         // rebuild): a reference collision there is one it missed, not a
@@ -796,7 +799,7 @@ impl KineticEngine {
             resting.len()
         );
         self.stand_in = Some(StandIn {
-            brute,
+            brute: BruteEngine(brute),
             resting: resting.into_iter().collect(),
         });
         *self.k.counts.entry("stand_in").or_default() += 1;
@@ -816,7 +819,7 @@ impl KineticEngine {
             .retain(|_, end| end.as_ref().is_none_or(|e| e > r));
         // a pair still in contact, or one that overlaps after this
         // response and collides again at this instant: not yet
-        if !s.resting.is_empty() || s.brute.next_time() == Some(now) {
+        if !s.resting.is_empty() || s.brute.0.next_time() == Some(now) {
             return Ok(());
         }
         let mut shapes = Shapes::default();
@@ -833,7 +836,7 @@ impl KineticEngine {
             Ok(()) => {
                 self.shapes = shapes;
                 if let Some(s) = self.stand_in.take() {
-                    self.stand_in_max = self.stand_in_max.max(s.brute.max_queued() as u64);
+                    self.stand_in_max = self.stand_in_max.max(s.brute.certificates().1);
                 }
                 self.contact_instant = None;
                 Ok(())
@@ -891,7 +894,7 @@ impl KineticEngine {
 impl Engine for KineticEngine {
     fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
         if let Some(s) = &mut self.stand_in {
-            return Ok(s.brute.next_collisions(limit));
+            return s.brute.next_collisions(world, limit);
         }
         match self.kinetic_next_collisions(world, limit) {
             Err(RunError::Internal(e)) => {
@@ -925,7 +928,7 @@ impl Engine for KineticEngine {
             r => *r = Some((now.clone(), pairs.collect(), bodies.to_vec())),
         }
         if let Some(s) = &mut self.stand_in {
-            s.brute.update(world, &r, bodies, reported);
+            s.brute.update(world, now, bodies, reported)?;
             let mut touched: Vec<BodyId> = bodies.to_vec();
             touched.extend(reported.iter().flat_map(|&(a, b)| [a, b]));
             touched.sort();
@@ -944,17 +947,14 @@ impl Engine for KineticEngine {
 
     fn next_time(&self) -> Option<Time> {
         match &self.stand_in {
-            Some(s) => s.brute.next_time().cloned(),
+            Some(s) => s.brute.next_time(),
             None => self.k.next_time().cloned(),
         }
     }
 
     fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
         match &self.stand_in {
-            Some(s) => {
-                let now = now.as_rational().ok_or("irrational world time")?;
-                s.brute.audit(world, now, at)
-            }
+            Some(s) => s.brute.audit(world, now, at),
             None => self.audit_at(world, now, at),
         }
     }
@@ -964,10 +964,10 @@ impl Engine for KineticEngine {
         // the reference's queued pair times stand in for certificates
         let max = (max as u64).max(self.stand_in_max);
         match &self.stand_in {
-            Some(s) => (
-                s.brute.queued() as u64,
-                max.max(s.brute.max_queued() as u64),
-            ),
+            Some(s) => {
+                let (queued, peak) = s.brute.certificates();
+                (queued, max.max(peak))
+            }
             None => (now as u64, max),
         }
     }

@@ -319,11 +319,6 @@ impl Kss {
                 return false;
             }
         }
-        if let (true, Some((i, j))) = (clear, mid) {
-            if c.b != Obj::Omega && self.bridge_over_flush_edges(world, k, (i, j), (t, side)) {
-                return false;
-            }
-        }
         let shapes = self.faces_with(world, k, mid);
         for (fi, face) in self.junctions_with(world, k, mid).into_iter().enumerate() {
             let Some(js) = face else {
@@ -376,7 +371,13 @@ impl Kss {
                 return false;
             }
         }
-        true
+        // checked last: the faces above reject most candidates more cheaply
+        match (clear, mid) {
+            (true, Some(m)) if c.b != Obj::Omega => {
+                !self.bridge_over_flush_edges(world, k, m, (t, side))
+            }
+            _ => true,
+        }
     }
 
     /// Whether middle bridge `(i, j)` of corridor `k` runs along an edge of

@@ -264,19 +264,25 @@ pub fn separate_after(
 /// time `t`; the number of pops. A sweep over bounding boxes finds the
 /// pairs to test.
 pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Result<u64, String> {
+    separate_all(world, shapes, t, &|geo, u, v, w| {
+        let p = |x: Att| geo.position(x, t).expect("a finite point");
+        orient(&p(u), &p(v), &p(w))
+    })
+}
+
+/// Pop approximations until `sign` says every two whose boxes meet at `t`
+/// are apart (no touching allowed); the number of pops.
+fn separate_all(
+    world: &World,
+    shapes: &mut Shapes,
+    t: &Rational,
+    sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
+) -> Result<u64, String> {
     let mut pops = 0;
     for pair in box_pairs(world, shapes, t) {
-        pops += separate(
-            world,
-            shapes,
-            pair,
-            &|geo, u, v, w| {
-                let p = |x: Att| geo.position(x, t).expect("a finite point");
-                orient(&p(u), &p(v), &p(w))
-            },
-            None,
-            &mut |shapes, x| Ok(pop(shapes, x)),
-        )?;
+        pops += separate(world, shapes, pair, sign, None, &mut |shapes, x| {
+            Ok(pop(shapes, x))
+        })?;
     }
     Ok(pops)
 }
@@ -314,18 +320,9 @@ pub fn separate_all_strictly_after(
     t: &Time,
 ) -> Result<u64, String> {
     let r = t.as_rational().ok_or("irrational time")?;
-    let mut pops = 0;
-    for pair in box_pairs(world, shapes, r) {
-        pops += separate(
-            world,
-            shapes,
-            pair,
-            &|geo, u, v, w| turn_after(geo, u, v, w, t),
-            None,
-            &mut |shapes, x| Ok(pop(shapes, x)),
-        )?;
-    }
-    Ok(pops)
+    separate_all(world, shapes, r, &|geo, u, v, w| {
+        turn_after(geo, u, v, w, t)
+    })
 }
 
 /// For the audit: every two approximations have disjoint interiors at time
