@@ -146,6 +146,7 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "refine_rebuilds": stats.refine_rebuilds,
         "merges": stats.merges,
         "local_removals": stats.local_removals,
+        "local_repairs": stats.local_repairs,
         "stand_ins": stats.stand_ins,
         "stand_in_ends": stats.stand_in_ends,
         "wall_seconds": wall_seconds,

@@ -108,6 +108,12 @@ pub struct RunStats {
     /// Polygons removed in place (`remove` mode), without a rebuild (0 for
     /// `brute`).
     pub local_removals: u64,
+    /// Settled contacts (three polygons meeting at one point and moving
+    /// apart) that the local operations could not resolve, repaired by
+    /// triangulating again only the region around one of the polygons
+    /// instead of rebuilding (0 for `brute`; see ARCHITECTURE.md, "Local
+    /// repair").
+    pub local_repairs: u64,
     /// Times the reference stood in for the kinetic structure because two
     /// polygons stayed in contact where the structure had to be built
     /// afresh (0 for `brute`; see ARCHITECTURE.md, "Resting contacts").
@@ -329,6 +335,10 @@ trait Engine {
     }
     /// Polygons removed in place.
     fn local_removals(&self) -> u64 {
+        0
+    }
+    /// Degenerate instants repaired by a local retriangulation.
+    fn local_repairs(&self) -> u64 {
         0
     }
 
@@ -988,6 +998,7 @@ impl Engine for KineticEngine {
                         | "refine_rebuild"
                         | "local_pop"
                         | "local_remove"
+                        | "local_repair"
                         | "merge"
                         | "stand_in"
                         | "stand_in_end"
@@ -1012,6 +1023,10 @@ impl Engine for KineticEngine {
 
     fn local_removals(&self) -> u64 {
         self.k.counts.get("local_remove").copied().unwrap_or(0)
+    }
+
+    fn local_repairs(&self) -> u64 {
+        self.k.counts.get("local_repair").copied().unwrap_or(0)
     }
 
     fn stand_ins(&self) -> (u64, u64) {
@@ -1355,6 +1370,7 @@ fn drive(
     ) = engine.rebuilds();
     stats.merges = engine.merges();
     stats.local_removals = engine.local_removals();
+    stats.local_repairs = engine.local_repairs();
     (stats.stand_ins, stats.stand_in_ends) = engine.stand_ins();
     stats.collisions = collisions;
     stats.max_number_bits = max_bits;

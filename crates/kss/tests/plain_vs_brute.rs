@@ -26,8 +26,9 @@ const GENERIC: [Family; 3] = [Family::Flypast, Family::Gas, Family::Far];
 
 /// The degenerate families (simultaneous contacts, grazing, sliding along a
 /// common line): where several degeneracies coincide at one instant the
-/// structure may fall back to a rebuild for just after it (counted, and
-/// bounded here so that the local operations stay the rule).
+/// structure may fall back to a local repair or, rarely, a rebuild for just
+/// after it (counted, and bounded here so that the local operations stay
+/// the rule).
 const DEGENERATE: [Family; 3] = [Family::Simultaneous, Family::Grazing, Family::Parallel];
 
 #[test]
@@ -40,22 +41,21 @@ fn plain_matches_brute_on_generic_families() {
 }
 
 /// The degenerate families: same events as the reference, with the audit
-/// after every event, where the structure may rebuild at a degenerate
-/// instant (counted; bounded by the next test).
+/// after every event. Where the local operations cannot resolve an instant
+/// the region around the polygons involved is triangulated again (a local
+/// repair); a rebuild of the whole structure stays rare: at most one
+/// scenario in 200.
 #[test]
 fn plain_matches_brute_on_degenerate_families() {
-    sweep(&DEGENERATE, StructureKind::Plain);
+    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
+    assert_rebuilds_rare(StructureKind::Plain, total, rebuilds);
 }
 
-/// The rebuilds at degenerate instants stay rare, so that the local
-/// operations are the rule.
-#[test]
-#[ignore = "known failure: 41 of the 1200 degenerate scenarios need a degenerate rebuild (the bound is 24); issue 3 open, see ARCHITECTURE.md"]
-fn plain_rebuilds_are_rare_on_degenerate_families() {
-    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
+fn assert_rebuilds_rare(structure: StructureKind, total: usize, rebuilds: u64) {
     assert!(
-        rebuilds * 50 <= total as u64,
-        "{rebuilds} rebuilds in {total} degenerate scenarios"
+        rebuilds * 200 <= total as u64,
+        "{}: {rebuilds} rebuilds in {total} degenerate scenarios",
+        structure.name()
     );
 }
 
@@ -72,7 +72,8 @@ fn hierarchical_matches_brute_on_generic_families() {
 
 #[test]
 fn hierarchical_matches_brute_on_degenerate_families() {
-    sweep(&DEGENERATE, StructureKind::Hierarchical);
+    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Hierarchical);
+    assert_rebuilds_rare(StructureKind::Hierarchical, total, rebuilds);
 }
 
 /// Run every seed of `families` with the reference and `structure`; returns
@@ -81,6 +82,7 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     let mut total = 0usize;
     let mut rebuilds = 0u64;
     let mut stand_ins = 0u64;
+    let mut repairs = 0u64;
     let mut with_events = 0usize;
     let mut failures = Vec::new();
     // runs that ended with an error, and runs that finished with other
@@ -93,6 +95,7 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
             let got = events(&s, structure, true).map(|(got, stats)| {
                 rebuilds += stats.degenerate_rebuilds;
                 stand_ins += stats.stand_ins;
+                repairs += stats.local_repairs;
                 got
             });
             total += 1;
@@ -119,7 +122,7 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     eprintln!(
         "{}: {total} scenarios, {with_events} with collisions, {} failures \
          ({errors} errors, {disagreements} disagreements), {rebuilds} rebuilds, \
-         {stand_ins} stand-ins of the reference",
+         {repairs} local repairs, {stand_ins} stand-ins of the reference",
         structure.name(),
         failures.len()
     );

@@ -639,6 +639,116 @@ impl Kinetic {
                 return Ok(false);
             }
         };
+        if !self.splice(world, plan, b, true, now)? {
+            return Ok(false);
+        }
+        *self.counts.entry("local_remove").or_default() += 1;
+        Ok(true)
+    }
+
+    /// Repair the structure for just after `now` by retriangulating the
+    /// region around one of `bodies` ([`Kss::retriangulation_plan`]), the
+    /// first for which a plan exists whose new partition triangles hold on
+    /// all of `(now, at]` for its instant `at`; counted as `local_repair`.
+    /// The local alternative to [`Kinetic::rebuild_after`] at a settled
+    /// contact. Returns `false` when no body gives a repair; the structure
+    /// is then unchanged, or half changed if the splice failed (the caller
+    /// rebuilds it either way).
+    pub fn repair_around(
+        &mut self,
+        world: &Geo,
+        bodies: &[BodyId],
+        now: &Time,
+    ) -> Result<bool, String> {
+        if self.broken.is_some() {
+            return Ok(false);
+        }
+        let f = now.to_f64();
+        let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
+        if let Some(next) = self.queue_times_after(now) {
+            if next < hi {
+                hi = next;
+            }
+        }
+        // all of them together first (the broken faces may lie between any
+        // two), then each alone
+        let mut sets: Vec<Vec<BodyId>> = vec![bodies.to_vec()];
+        if bodies.len() > 1 {
+            sets.extend(bodies.iter().map(|&b| vec![b]));
+        }
+        for set in &sets {
+            let b = set[0];
+            let mut hi_b = hi.clone();
+            for _ in 0..40 {
+                let at = now.rational_between(&hi_b);
+                let at_t = Time::from_rational(at.clone());
+                let plan = match self.kss.retriangulation_plan(world, set, &at) {
+                    Ok(plan) => plan,
+                    Err(_e) => {
+                        trace!("repair around {set:?} at {}: {_e}", at_t.to_f64());
+                        hi_b = at_t;
+                        continue;
+                    }
+                };
+                // the new triangles must hold from just after `now` to `at`
+                let holds = plan.new_triangles().iter().all(|c| {
+                    if c.iter().any(|a| a.is_omega()) {
+                        return true;
+                    }
+                    let [x, y, z] = c.map(|a| world.point(a));
+                    let q = crate::motion::orient_poly(&x, &y, &z);
+                    q.sign_after(now) == Sign::Positive
+                        && q.first_failure_after(now).is_none_or(|x| x > at_t)
+                });
+                if !holds {
+                    trace!(
+                        "repair around {set:?} at {}: a triangle fails before",
+                        at_t.to_f64()
+                    );
+                    hi_b = at_t;
+                    continue;
+                }
+                // and every new corridor must have a decomposition just
+                // after `now`: tried on a copy of the combinatorial
+                // structure (no exact arithmetic but the normalization's)
+                let mut trial = self.kss.clone();
+                let spliced = trial.apply_removal(plan.clone());
+                let decomposes = spliced.corrs.iter().all(|&k| {
+                    trial.place_middle_bridge(world, k, now);
+                    trial.normalize(world, k, now, None).is_ok()
+                });
+                if !decomposes {
+                    trace!(
+                        "repair around {set:?} at {}: a corridor does not decompose",
+                        at_t.to_f64()
+                    );
+                    hi_b = at_t;
+                    continue;
+                }
+                if !self.splice(world, plan, b, false, now)? {
+                    return Ok(false);
+                }
+                *self.counts.entry("local_repair").or_default() += 1;
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// Replace the triangles and corridors that `plan` takes out by its new
+    /// ones (for the removal of body `b` when `removed`, else for a
+    /// retriangulation around it): the slots are renumbered, the new
+    /// corridors normalized, and their certificates and the new triangles'
+    /// scheduled, taking over those they share with what went. `false` when
+    /// the result does not hold just after `now`.
+    fn splice(
+        &mut self,
+        world: &Geo,
+        plan: super::remove::RemovalPlan,
+        b: BodyId,
+        removed: bool,
+        now: &Time,
+    ) -> Result<bool, String> {
         // the certificates of what goes lose their owners but stay for the
         // moment: the new triangles and corridors take over the ones they
         // share (most of a merged corridor's junctions) without computing
@@ -705,11 +815,13 @@ impl Kinetic {
                 None => {}
             }
         }
-        if self.by_body.get(&b).is_some_and(|s| !s.is_empty()) {
-            trace!("removal of {b:?}: certificates on it stay");
-            return Ok(false);
+        if removed {
+            if self.by_body.get(&b).is_some_and(|s| !s.is_empty()) {
+                trace!("removal of {b:?}: certificates on it stay");
+                return Ok(false);
+            }
+            self.by_body.remove(&b);
         }
-        self.by_body.remove(&b);
         // the new structure must hold just after `now`: no new certificate
         // fails at once (only those due now can) but the ones taken over and
         // the junctions that normalization holds against the motion (zero
@@ -741,11 +853,10 @@ impl Kinetic {
                 continue;
             }
             if self.due_now(p, s.key, now) && is_failing(world, &s.cert, now) {
-                trace!("removal of {b:?}: certificate {p:?} fails at once");
+                trace!("splice around {b:?}: certificate {p:?} fails at once");
                 return Ok(false);
             }
         }
-        *self.counts.entry("local_remove").or_default() += 1;
         Ok(true)
     }
 
@@ -928,7 +1039,22 @@ impl Kinetic {
         }
         match self.handle(world, p, t.clone(), contacts, collides) {
             Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
-                trace!("local operations failed at {}: {e}; rebuilding", t.to_f64());
+                trace!("local operations failed at {}: {e}; repairing", t.to_f64());
+                let mut bodies: Vec<BodyId> = Vec::new();
+                for a in p {
+                    if let Obj::Body(b) = a.obj {
+                        if !bodies.contains(&b) {
+                            bodies.push(b);
+                        }
+                    }
+                }
+                if self.repair_around(world, &bodies, &t)? {
+                    if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                        self.reschedule(world, &p, &t);
+                    }
+                    return Ok(Step::Internal(t));
+                }
+                trace!("no local repair at {}: rebuilding", t.to_f64());
                 self.rebuild_after(world, &t, "degenerate_rebuild")
                     .map_err(|r| format!("{e}; then {r}"))?;
                 Ok(Step::Internal(t))
@@ -1053,8 +1179,17 @@ impl Kinetic {
             match settled_between(world, &cert, &t) {
                 Some(f) => failure = f,
                 None => {
-                    trace!("settled contact at {}: rebuilding", t.to_f64());
+                    trace!("settled contact at {}: repairing", t.to_f64());
                     if contacts.is_empty() && self.waiting.is_empty() {
+                        let bodies: Vec<BodyId> =
+                            [Some(a), Some(b), third].into_iter().flatten().collect();
+                        if self.repair_around(world, &bodies, &t)? {
+                            if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                                self.reschedule(world, &p, &t);
+                            }
+                            return Ok(Step::Internal(t));
+                        }
+                        trace!("no local repair at {}: rebuilding", t.to_f64());
                         self.rebuild_after(world, &t, "degenerate_rebuild")?;
                         return Ok(Step::Internal(t));
                     }

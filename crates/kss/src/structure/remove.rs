@@ -29,7 +29,7 @@ use super::build::{cross_two_object_face, is_partition};
 use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
 use crate::geom::{orient, Point};
-use crate::num::{Sign, Time};
+use crate::num::{Rational, Sign, Time};
 use crate::world::BodyId;
 
 /// An end of a planned corridor: a side of a new triangle (by its index
@@ -67,6 +67,13 @@ pub struct RemovalPlan {
     far: Vec<(TriId, u8, usize)>,
 }
 
+impl RemovalPlan {
+    /// The corners of the new partition triangles.
+    pub fn new_triangles(&self) -> &[[Att; 3]] {
+        &self.new_tris
+    }
+}
+
 /// What [`Kss::apply_removal`] did: the ids of the new triangles and
 /// corridors, and the ones that were moved to fill the freed slots
 /// (`(from, to)`, applied in order).
@@ -92,21 +99,55 @@ impl Kss {
     /// geometry is not used.
     pub fn removal_plan(&self, world: &Geo, p: BodyId, now: &Time) -> Result<RemovalPlan, String> {
         let t = now.as_rational().ok_or("an irrational instant")?;
-        let ti = now.interval();
         let alive = world.bodies().iter().filter(|b| b.alive).count();
         if alive < 2 {
             return Err(format!("{alive} bodies stay"));
         }
-        let po = Obj::Body(p);
+        self.region_plan(world, &[p], t, false)
+    }
+
+    /// Plan a *local retriangulation* around the bodies `set` (alive in
+    /// `world`): the region `R` made of the partition triangles with a
+    /// corner on one of them and the corridors with one of them on a side
+    /// (for one body, the region of its removal, [`Kss::removal_plan`]),
+    /// with the bodies kept inside it as obstacles (their edges are
+    /// constraints too), triangulated afresh with the positions at the
+    /// rational instant `at`. The repair of a degenerate instant that the
+    /// local operations cannot resolve (a settled contact, such as three
+    /// polygons meeting at one point and moving apart): the structure
+    /// changes only inside `R`, so the cost is the bodies' degrees and the
+    /// chains facing them, not the number of polygons. The counts stay: as
+    /// many new triangles and corridors as go.
+    pub fn retriangulation_plan(
+        &self,
+        world: &Geo,
+        set: &[BodyId],
+        at: &Rational,
+    ) -> Result<RemovalPlan, String> {
+        self.region_plan(world, set, at, true)
+    }
+
+    /// [`Kss::removal_plan`] (`set == [p]`, `keep == false`) or
+    /// [`Kss::retriangulation_plan`] (`keep == true`) at the rational
+    /// instant `t`.
+    fn region_plan(
+        &self,
+        world: &Geo,
+        set: &[BodyId],
+        t: &Rational,
+        keep: bool,
+    ) -> Result<RemovalPlan, String> {
+        let ti = t.interval();
+        let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
         let dead_tris: Vec<TriId> = (0..self.tris.len())
-            .filter(|&i| self.tris[i].c.iter().any(|c| c.obj == po))
+            .filter(|&i| self.tris[i].c.iter().any(|c| in_set(c.obj)))
             .map(|i| TriId(i as u32))
             .collect();
         let star: Vec<CorrId> = (0..self.corrs.len())
-            .filter(|&i| self.corrs[i].a == po || self.corrs[i].b == po)
+            .filter(|&i| in_set(self.corrs[i].a) || in_set(self.corrs[i].b))
             .map(|i| CorrId(i as u32))
             .collect();
-        if dead_tris.len() < 2 {
+        if dead_tris.len() < 2 && !keep {
             return Err("the body has fewer than two triangles".into());
         }
         let dead_set: HashSet<TriId> = dead_tris.iter().copied().collect();
@@ -117,45 +158,48 @@ impl Kss {
         let mut bridges: Vec<(Att, Att)> = Vec::new();
         for &tri in &dead_tris {
             let c = self.tris[tri.0 as usize].c;
-            let i = (0..3).find(|&i| c[i].obj == po).expect("a corner on p");
-            let j = (i + 1) % 3;
-            let (x, y) = (c[j], c[(j + 1) % 3]);
-            let k = self.tris[tri.0 as usize].corr[j];
-            let kc = &self.corrs[k.0 as usize];
-            let at_s = kc.s == (tri, j as u8);
-            if !at_s && kc.t != (tri, j as u8) {
-                return Err(format!("corridor {k:?} does not end at triangle {tri:?}"));
+            // the sides away from the set (one for a single body)
+            for j in 0..3 {
+                let (x, y) = (c[j], c[(j + 1) % 3]);
+                if in_set(x.obj) || in_set(y.obj) {
+                    continue;
+                }
+                let k = self.tris[tri.0 as usize].corr[j];
+                let kc = &self.corrs[k.0 as usize];
+                let at_s = kc.s == (tri, j as u8);
+                if !at_s && kc.t != (tri, j as u8) {
+                    return Err(format!("corridor {k:?} does not end at triangle {tri:?}"));
+                }
+                if portal.insert((y, x), (k, at_s)).is_some() {
+                    return Err("two bridges on one side".into());
+                }
+                if !merged.contains(&k) {
+                    merged.push(k);
+                }
+                bridges.push((x, y));
             }
-            if portal.insert((y, x), (k, at_s)).is_some() {
-                return Err("two bridges on one side".into());
-            }
-            if !merged.contains(&k) {
-                merged.push(k);
-            }
-            bridges.push((x, y));
         }
-        // the chains facing p, walked clockwise (free space on the left)
+        // the chains of the region's corridors, walked clockwise (free
+        // space on the left): those facing the set bound the region from
+        // outside, a kept body's own bound it from inside
         let mut chains: Vec<(Att, Att)> = Vec::new();
         let mut ends: Vec<Att> = Vec::new();
         for &k in &star {
             let c = &self.corrs[k.0 as usize];
             let (a_s, _, _, b_t) = self.ends(k);
-            let (from, len) = if c.a == po {
-                (b_t, c.len_b)
-            } else {
-                (a_s, c.len_a)
-            };
-            if from.is_omega() {
-                continue;
+            for (obj, from, len) in [(c.a, a_s, c.len_a), (c.b, b_t, c.len_b)] {
+                if from.is_omega() || (!keep && in_set(obj)) {
+                    continue;
+                }
+                ends.push(from);
+                let mut v = from;
+                for _ in 0..len {
+                    let w = world.cw(v, 1);
+                    chains.push((v, w));
+                    v = w;
+                }
+                ends.push(v);
             }
-            ends.push(from);
-            let mut v = from;
-            for _ in 0..len {
-                let w = world.cw(v, 1);
-                chains.push((v, w));
-                v = w;
-            }
-            ends.push(v);
         }
         // local vertex numbering
         let mut index: HashMap<Att, usize> = HashMap::new();
@@ -214,8 +258,11 @@ impl Kss {
                     conflict = true
                 })
                 .map_err(|e| format!("{e:?}"))?;
-            if conflict || cdt.num_vertices() != atts.len() {
-                return Err("vertices or constraints coincide after rounding".into());
+            if conflict {
+                return Err("constraints cross after rounding".into());
+            }
+            if cdt.num_vertices() != atts.len() {
+                return Err("vertices coincide after rounding".into());
             }
             // a constraint through a vertex is split by spade without a
             // conflict: the flood fill would cross it
@@ -322,7 +369,8 @@ impl Kss {
         if dead_corrs.len() != star.len() + merged.len() {
             return Err("a corridor both on the body and beyond a bridge".into());
         }
-        if new_tris.len() + 2 != dead_tris.len() || dead_corrs.len() < 3 {
+        let (gone_tris, gone_corrs) = if keep { (0, 0) } else { (2, 3) };
+        if new_tris.len() + gone_tris != dead_tris.len() || dead_corrs.len() < gone_corrs {
             return Err(format!(
                 "{} new triangles for {} removed",
                 new_tris.len(),
@@ -433,7 +481,7 @@ impl Kss {
         if used.len() != merged.len() {
             return Err("a corridor beyond a bridge was not merged".into());
         }
-        if new_corrs.len() + 3 != dead_corrs.len() {
+        if new_corrs.len() + gone_corrs != dead_corrs.len() {
             return Err(format!(
                 "{} new corridors for {} removed",
                 new_corrs.len(),
