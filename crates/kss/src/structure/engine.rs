@@ -709,15 +709,8 @@ impl Kinetic {
                     continue;
                 }
                 // and every new corridor must have a decomposition just
-                // after `now`: tried on a copy of the combinatorial
-                // structure (no exact arithmetic but the normalization's)
-                let mut trial = self.kss.clone();
-                let spliced = trial.apply_removal(plan.clone());
-                let decomposes = spliced.corrs.iter().all(|&k| {
-                    trial.place_middle_bridge(world, k, now);
-                    trial.normalize(world, k, now, None).is_ok()
-                });
-                if !decomposes {
+                // after `now` (tried, and undone)
+                if !self.kss.retriangulation_decomposes(world, &plan, now) {
                     trace!(
                         "repair around {set:?} at {}: a corridor does not decompose",
                         at_t.to_f64()

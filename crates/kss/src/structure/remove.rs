@@ -510,6 +510,53 @@ impl Kss {
         })
     }
 
+    /// Whether every new corridor of the retriangulation `plan` has a
+    /// pseudo-triangle decomposition just after `now` (after its geodesic
+    /// middle bridge, as [`Kss::apply_removal`]'s callers place it). The
+    /// plan is applied, the corridors normalized, and every slot it touched
+    /// restored: `O(|R|)`, the structure unchanged afterwards.
+    pub fn retriangulation_decomposes(
+        &mut self,
+        world: &Geo,
+        plan: &RemovalPlan,
+        now: &Time,
+    ) -> bool {
+        debug_assert_eq!(
+            plan.new_tris.len(),
+            plan.dead_tris.len(),
+            "a retriangulation plan"
+        );
+        let tris: Vec<(TriId, PartitionTriangle)> = (plan.dead_tris.iter().copied())
+            .chain(plan.far.iter().map(|&(t, _, _)| t))
+            .map(|t| (t, self.tris[t.0 as usize].clone()))
+            .collect();
+        let corrs: Vec<(CorrId, Corridor, Option<Vec<[Att; 3]>>)> = (plan.dead_corrs.iter())
+            .map(|&k| {
+                (
+                    k,
+                    self.corrs[k.0 as usize].clone(),
+                    self.held.get(&k).cloned(),
+                )
+            })
+            .collect();
+        let spliced = self.apply_removal(plan.clone());
+        let ok = spliced.corrs.iter().all(|&k| {
+            self.place_middle_bridge(world, k, now);
+            self.normalize(world, k, now, None).is_ok()
+        });
+        for (t, tri) in tris {
+            self.tris[t.0 as usize] = tri;
+        }
+        for (k, c, held) in corrs {
+            self.corrs[k.0 as usize] = c;
+            match held {
+                Some(h) => self.held.insert(k, h),
+                None => self.held.remove(&k),
+            };
+        }
+        ok
+    }
+
     /// Apply a removal plan: the new triangles and corridors take the
     /// lowest freed slots, the triangles that stay point to the new
     /// corridors, and the last triangles and corridors move into the slots
