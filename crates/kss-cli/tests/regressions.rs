@@ -111,13 +111,16 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// take both polygons (`gen_small grazing 110`: around either alone, a
 /// bridge of the region's boundary crosses the other), and one where the
 /// first instant tried leaves a corridor without a decomposition just after
-/// the contact (`gen_small simultaneous 371`). Each rebuilt globally before.
+/// the contact (`gen_small simultaneous 371`), and a settled contact found
+/// while another contact of the instant awaits its response, handled again
+/// after it (`gen_small simultaneous 852`). Each rebuilt globally before.
 #[test]
 fn settled_contacts_are_repaired_locally() {
     for name in [
         "local_repair_three_meet_at_a_point.json",
         "local_repair_around_both_bodies.json",
         "local_repair_after_a_trial_normalization.json",
+        "local_repair_after_the_response.json",
     ] {
         let v = stats_of(name, "plain");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");

@@ -1186,7 +1186,10 @@ impl Kinetic {
                         self.rebuild_after(world, &t, "degenerate_rebuild")?;
                         return Ok(Step::Internal(t));
                     }
-                    self.broken = Some("degenerate_rebuild");
+                    // contacts at this instant: set aside until the
+                    // response has set the motions, then handled again
+                    // (repaired then, if it still fails)
+                    self.waiting.push(p);
                     return Ok(Step::Deferred(t));
                 }
             }

@@ -530,7 +530,8 @@ impl Kss {
             .chain(plan.far.iter().map(|&(t, _, _)| t))
             .map(|t| (t, self.tris[t.0 as usize].clone()))
             .collect();
-        let corrs: Vec<(CorrId, Corridor, Option<Vec<[Att; 3]>>)> = (plan.dead_corrs.iter())
+        type Saved = (CorrId, Corridor, Option<Vec<[Att; 3]>>);
+        let corrs: Vec<Saved> = (plan.dead_corrs.iter())
             .map(|&k| {
                 (
                     k,
