@@ -647,9 +647,12 @@ impl Kinetic {
     }
 
     /// Repair the structure for just after `now` by retriangulating the
-    /// region around one of `bodies` ([`Kss::retriangulation_plan`]), the
-    /// first for which a plan exists whose new partition triangles hold on
-    /// all of `(now, at]` for its instant `at`; counted as `local_repair`.
+    /// region around `bodies` together (then, with `singles`, around each
+    /// alone; [`Kss::retriangulation_plan`]), the first for which a plan
+    /// exists whose new partition triangles hold on all of `(now, at]` for
+    /// its instant `at` and whose new corridors decompose just after `now`
+    /// without holding a junction against the motion (`handled`, the
+    /// failing certificate, is never held); counted as `local_repair`.
     /// The local alternative to [`Kinetic::rebuild_after`] at a settled
     /// contact. Returns `false` when no body gives a repair; the structure
     /// is then unchanged, or half changed if the splice failed (the caller
@@ -657,12 +660,27 @@ impl Kinetic {
     pub fn repair_around(
         &mut self,
         world: &Geo,
-        bodies: &[BodyId],
+        (bodies, singles): (&[BodyId], bool),
+        handled: [Att; 3],
         now: &Time,
     ) -> Result<bool, String> {
         if self.broken.is_some() {
             return Ok(false);
         }
+        // the certificate being handled is never held against the motion
+        // by the new corridors' normalization (its event would repeat)
+        self.kss.handling = Some(handled);
+        let repaired = self.repair_with(world, (bodies, singles), now);
+        self.kss.handling = None;
+        repaired
+    }
+
+    fn repair_with(
+        &mut self,
+        world: &Geo,
+        (bodies, singles): (&[BodyId], bool),
+        now: &Time,
+    ) -> Result<bool, String> {
         let f = now.to_f64();
         let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
         if let Some(next) = self.queue_times_after(now) {
@@ -673,7 +691,7 @@ impl Kinetic {
         // all of them together first (the broken faces may lie between any
         // two), then each alone
         let mut sets: Vec<Vec<BodyId>> = vec![bodies.to_vec()];
-        if bodies.len() > 1 {
+        if singles && bodies.len() > 1 {
             sets.extend(bodies.iter().map(|&b| vec![b]));
         }
         for set in &sets {
@@ -1041,7 +1059,13 @@ impl Kinetic {
                         }
                     }
                 }
-                if self.repair_around(world, &bodies, &t)? {
+                // (only all of them together: the failed operation may have
+                // changed corridors between any two of them before failing,
+                // and the region must take every such corridor; not after a
+                // failed rebuild, which may have left a repair half done)
+                if self.unbuildable.as_ref() != Some(&t)
+                    && self.repair_around(world, (&bodies, false), p, &t)?
+                {
                     if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
                         self.reschedule(world, &p, &t);
                     }
@@ -1176,7 +1200,7 @@ impl Kinetic {
                     if contacts.is_empty() && self.waiting.is_empty() {
                         let bodies: Vec<BodyId> =
                             [Some(a), Some(b), third].into_iter().flatten().collect();
-                        if self.repair_around(world, &bodies, &t)? {
+                        if self.repair_around(world, (&bodies, true), p, &t)? {
                             if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
                                 self.reschedule(world, &p, &t);
                             }

@@ -326,7 +326,12 @@ impl Kss {
         }
         hull.sort_unstable();
         hull.dedup();
-        let touches_omega = bridges.iter().any(|&(x, y)| x.is_omega() || y.is_omega());
+        // (a kept hull body's ω-corridor makes the region unbounded too)
+        let touches_omega = bridges.iter().any(|&(x, y)| x.is_omega() || y.is_omega())
+            || (keep
+                && star
+                    .iter()
+                    .any(|k| self.corrs[k.0 as usize].b == Obj::Omega));
         if !hull.is_empty() && !touches_omega {
             return Err("a hull edge in a bounded region".into());
         }
@@ -541,9 +546,11 @@ impl Kss {
             })
             .collect();
         let spliced = self.apply_removal(plan.clone());
+        // (a decomposition that holds junctions against the motion is not
+        // one just after `now`: those certificates would fail at once)
         let ok = spliced.corrs.iter().all(|&k| {
             self.place_middle_bridge(world, k, now);
-            self.normalize(world, k, now, None).is_ok()
+            self.normalize(world, k, now, None).is_ok() && !self.held.contains_key(&k)
         });
         for (t, tri) in tris {
             self.tris[t.0 as usize] = tri;
