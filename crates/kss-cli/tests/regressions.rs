@@ -134,32 +134,7 @@ fn settled_contacts_are_repaired_locally() {
 /// the statistics show (`refine_rebuilds` was 1).
 #[test]
 fn a_pop_that_inverts_a_triangle_is_repaired_in_place() {
-    let file = scenarios_in("regressions")
-        .into_iter()
-        .find(|p| p.ends_with("pop_repaired_by_an_ear_slide.json"))
-        .expect("the scenario");
-    let stats = std::env::temp_dir().join(format!("kss-pop-repair-{}.json", std::process::id()));
-    let out = Command::new(env!("CARGO_BIN_EXE_kss"))
-        .args([
-            "run",
-            &file.display().to_string(),
-            "--structure",
-            "hierarchical",
-        ])
-        .args(["--audit", "--stats", &stats.display().to_string()])
-        .output()
-        .expect("kss runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = std::fs::read_to_string(&stats).expect("the statistics");
-    let _ = std::fs::remove_file(&stats);
-    let v: serde_json::Value = serde_json::from_str(&text).expect("JSON statistics");
-    assert_eq!(v["refine_rebuilds"], 0, "{text}");
-    assert!(
-        v["events_by_kind"]["pop"].as_u64().unwrap_or(0) > 0,
-        "{text}"
-    );
+    let v = stats_of("pop_repaired_by_an_ear_slide.json", "hierarchical");
+    assert_eq!(v["refine_rebuilds"], 0, "{v}");
+    assert!(v["events_by_kind"]["pop"].as_u64().unwrap_or(0) > 0, "{v}");
 }

@@ -349,6 +349,13 @@ trait Engine {
     }
 }
 
+/// The world's current time, which is always rational (updates happen at
+/// collision and flight-plan instants).
+fn world_time(now: &Time) -> Result<&Rational, RunError> {
+    now.as_rational()
+        .ok_or_else(|| RunError::Internal("irrational world time".into()))
+}
+
 struct BruteEngine(Brute);
 
 impl Engine for BruteEngine {
@@ -363,9 +370,7 @@ impl Engine for BruteEngine {
         bodies: &[BodyId],
         reported: &[(BodyId, BodyId)],
     ) -> Result<(), RunError> {
-        let now = now
-            .as_rational()
-            .ok_or_else(|| RunError::Internal("irrational world time".into()))?;
+        let now = world_time(now)?;
         self.0.update(world, now, bodies, reported);
         Ok(())
     }
@@ -922,10 +927,7 @@ impl Engine for KineticEngine {
         bodies: &[BodyId],
         reported: &[(BodyId, BodyId)],
     ) -> Result<(), RunError> {
-        let r = now
-            .as_rational()
-            .ok_or_else(|| RunError::Internal("irrational world time".into()))?
-            .clone();
+        let r = world_time(now)?.clone();
         self.last_update = r.clone();
         // kept while the reference stands in too: a hand-over at `now` is
         // followed by the structure's own updates at `now`
@@ -1181,9 +1183,7 @@ impl KineticEngine {
         reported: &[(BodyId, BodyId)],
     ) -> Result<(), RunError> {
         if bodies.iter().any(|&b| !world.body(b).alive) {
-            let t = now
-                .as_rational()
-                .ok_or_else(|| RunError::Internal("irrational world time".into()))?;
+            let t = world_time(now)?;
             // one body at a time, in place (the others that go are still
             // seen as the structure sees them while it is removed)
             let mut local = true;

@@ -681,13 +681,7 @@ impl Kinetic {
         (bodies, singles): (&[BodyId], bool),
         now: &Time,
     ) -> Result<bool, String> {
-        let f = now.to_f64();
-        let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
-        if let Some(next) = self.queue_times_after(now) {
-            if next < hi {
-                hi = next;
-            }
-        }
+        let hi = self.search_start(now)?;
         // all of them together first (the broken faces may lie between any
         // two), then each alone
         let mut sets: Vec<Vec<BodyId>> = vec![bodies.to_vec()];
@@ -1102,17 +1096,7 @@ impl Kinetic {
         now: &Time,
         kind: &'static str,
     ) -> Result<(), String> {
-        let f = now.to_f64();
-        let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
-        // the old structure's next failure after `now` gives the scale of
-        // the gaps between events: start the search there rather than far
-        // away, where polygons have moved into each other and the build
-        // fails (each failed attempt is a whole triangulation)
-        if let Some(next) = self.queue_times_after(now) {
-            if next < hi {
-                hi = next;
-            }
-        }
+        let mut hi = self.search_start(now)?;
         for _ in 0..200 {
             let at = now.rational_between(&hi);
             let at_t = Time::from_rational(at.clone());
@@ -1141,6 +1125,24 @@ impl Kinetic {
         }
         self.unbuildable = Some(now.clone());
         Err(format!("no rebuild just after t = {now} found"))
+    }
+
+    /// Where the searches for an instant just after `now` (a rebuild, a
+    /// local repair) start, halving towards `now`: the old structure's next
+    /// failure after `now` gives the scale of the gaps between events, so
+    /// the search starts there rather than far away, where polygons have
+    /// moved into each other and every attempt fails (each a whole
+    /// triangulation); at most one time unit later. (The f64 only bounds the
+    /// search from above: any instant after `now` would do.)
+    fn search_start(&self, now: &Time) -> Result<Time, String> {
+        let f = now.to_f64();
+        let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
+        if let Some(next) = self.queue_times_after(now) {
+            if next < hi {
+                hi = next;
+            }
+        }
+        Ok(hi)
     }
 
     /// The earliest queued failure time strictly after `now` (O(queue)).
