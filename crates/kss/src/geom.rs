@@ -91,6 +91,8 @@ pub struct BodyPolygon {
     /// Enclosures of the integer coordinates (the filter's input, converted
     /// once rather than at every orientation test).
     ivs: Vec<[Interval; 2]>,
+    /// The body-frame bounding box (see [`BodyPolygon::bounds`]).
+    bbox: [f64; 4],
 }
 
 /// What is wrong with a vertex list (see [`BodyPolygon::new`]).
@@ -147,12 +149,25 @@ impl BodyPolygon {
             .zip(&ys)
             .map(|(x, y)| [Interval::of_int(x), Interval::of_int(y)])
             .collect();
+        let mut bbox = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for v in vertices {
+            bbox[0] = bbox[0].min(v[0]);
+            bbox[1] = bbox[1].max(v[0]);
+            bbox[2] = bbox[2].min(v[1]);
+            bbox[3] = bbox[3].max(v[1]);
+        }
         let poly = BodyPolygon {
             xs,
             ys,
             exp,
             f64s: vertices.to_vec(),
             ivs,
+            bbox,
         };
         poly.check_convex()?;
         Ok(poly)
@@ -272,19 +287,7 @@ impl BodyPolygon {
     /// The body-frame bounding box `[min x, max x, min y, max y]` (exact:
     /// the coordinates are the given doubles).
     pub fn bounds(&self) -> [f64; 4] {
-        let mut bx = [
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        ];
-        for v in &self.f64s {
-            bx[0] = bx[0].min(v[0]);
-            bx[1] = bx[1].max(v[0]);
-            bx[2] = bx[2].min(v[1]);
-            bx[3] = bx[3].max(v[1]);
-        }
-        bx
+        self.bbox
     }
 
     /// Twice the signed area, exactly.

@@ -9,6 +9,8 @@
 //! the form `((x0 + x1·t)/w, (y0 + y1·t)/w)` with integers and `w > 0`, so that
 //! [`orient_poly`] needs only integer arithmetic.
 
+use std::sync::Arc;
+
 use crate::geom::{BodyPolygon, Point};
 use crate::num::{lcm, Int, Interval, Poly, Rational};
 
@@ -60,8 +62,9 @@ pub struct Frame {
     vy: Int,
     m: Int,
     w: Int,
-    /// Enclosures of `ox, oy, vx, vy, m, w` (the f64 filter's view).
-    iv: [Interval; 6],
+    /// Enclosures of `ox/w, oy/w, vx/w, vy/w, m/w` (the f64 filter's view;
+    /// a velocity component that is exactly zero is the point `[0, 0]`).
+    iv: [Interval; 5],
 }
 
 impl Frame {
@@ -89,7 +92,14 @@ impl Frame {
             m = w.clone();
             w <<= s;
         }
-        let iv = [&ox, &oy, &vx, &vy, &m, &w].map(Interval::of_int);
+        let wi = Interval::of_int(&w);
+        let iv = [&ox, &oy, &vx, &vy, &m].map(|x| {
+            if x.is_zero() {
+                Interval::point(0.0)
+            } else {
+                Interval::of_int(x) / wi
+            }
+        });
         Frame {
             ox,
             oy,
@@ -107,8 +117,18 @@ impl Frame {
     /// filter's view of [`Frame::homogeneous`]. Never decides anything by
     /// itself.
     pub fn enclose(&self, x: Interval, y: Interval, t: Interval) -> [Interval; 2] {
-        let [ox, oy, vx, vy, m, w] = self.iv;
-        [(ox + m * x + vx * t) / w, (oy + m * y + vy * t) / w]
+        let [ox, oy, vx, vy, m] = self.iv;
+        [ox + m * x + vx * t, oy + m * y + vy * t]
+    }
+
+    /// Enclosures `[x0, x1, y0, y1]` of the world position `(x0 + x1·t,
+    /// y0 + y1·t)` of the body-frame point given by enclosures `x`, `y` of its
+    /// coordinates on the body polygon's grid (as in [`Frame::enclose`]).
+    /// The velocity terms are those of the frame itself: points of one frame
+    /// share them exactly.
+    pub fn linear_enclosure(&self, x: Interval, y: Interval) -> [Interval; 4] {
+        let [ox, oy, vx, vy, m] = self.iv;
+        [ox + m * x, vx, oy + m * y, vy]
     }
 
     /// The moving world position of body vertex `i`.
@@ -147,6 +167,29 @@ impl Frame {
             y1: &self.vy * w,
             w: &self.w * w,
         }
+    }
+}
+
+/// A body-frame point in homogeneous integer coordinates `(x/w, y/w)` on the
+/// grid of its body polygon, with the frame that moves it: enough to produce
+/// its [`LinearPoint`] later (a deferred certificate failure time keeps its
+/// three points this way; the frame is shared, not copied).
+#[derive(Clone, Debug)]
+pub struct FramePoint {
+    /// The frame of the body polygon the point is on.
+    pub frame: Arc<Frame>,
+    /// Homogeneous x.
+    pub x: Int,
+    /// Homogeneous y.
+    pub y: Int,
+    /// Positive weight.
+    pub w: Int,
+}
+
+impl FramePoint {
+    /// The moving world position ([`Frame::homogeneous`]).
+    pub fn linear(&self) -> LinearPoint {
+        self.frame.homogeneous(&self.x, &self.y, &self.w)
     }
 }
 

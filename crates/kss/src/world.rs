@@ -55,8 +55,8 @@ pub struct Body {
     pub alive: bool,
     /// Current piece of the path.
     pub traj: Trajectory,
-    /// `traj` in integer form.
-    pub frame: Frame,
+    /// `traj` in integer form (shared with deferred failure times).
+    pub frame: Arc<Frame>,
     /// Area (for bounce masses), as a double.
     pub area: f64,
     /// Area centroid in the body frame.
@@ -77,7 +77,7 @@ impl Body {
     }
 
     fn set_traj(&mut self, traj: Trajectory) {
-        self.frame = Frame::new(&traj, &self.shape);
+        self.frame = Arc::new(Frame::new(&traj, &self.shape));
         self.traj = traj;
     }
 }
@@ -176,7 +176,7 @@ impl World {
                 return Err(ScenarioError::FixedWithVelocity { id: id() });
             }
             let traj = Trajectory::through(&Rational::zero(), &position, velocity);
-            let frame = Frame::new(&traj, &shape);
+            let frame = Arc::new(Frame::new(&traj, &shape));
             let area = shape.twice_area().to_f64() / 2.0;
             let centroid = shape.centroid();
             bodies.push(Body {

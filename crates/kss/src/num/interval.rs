@@ -14,6 +14,7 @@ pub struct Interval {
     pub hi: f64,
 }
 
+#[inline(always)]
 fn down(x: f64) -> f64 {
     if x.is_nan() {
         f64::NEG_INFINITY
@@ -22,6 +23,7 @@ fn down(x: f64) -> f64 {
     }
 }
 
+#[inline(always)]
 fn up(x: f64) -> f64 {
     if x.is_nan() {
         f64::INFINITY
@@ -120,6 +122,24 @@ impl Interval {
         Interval { lo, hi }
     }
 
+    /// The square: `{x² : x in self}` (never negative, unlike `self * self`).
+    pub fn square(self) -> Interval {
+        let (a, b) = (self.lo.abs(), self.hi.abs());
+        let (small, big) = if self.lo <= 0.0 && self.hi >= 0.0 {
+            (0.0, a.max(b))
+        } else {
+            (a.min(b), a.max(b))
+        };
+        let hi = big * big;
+        if hi.is_nan() {
+            return Interval::ENTIRE;
+        }
+        Interval {
+            lo: down(small * small).max(0.0),
+            hi: up(hi),
+        }
+    }
+
     /// Whether the two intervals share a point.
     pub fn overlaps(&self, other: &Interval) -> bool {
         !(self.hi < other.lo || other.hi < self.lo)
@@ -137,7 +157,15 @@ impl Interval {
 impl std::ops::Add for Interval {
     type Output = Interval;
 
+    #[inline(always)]
     fn add(self, other: Interval) -> Interval {
+        // adding an exact zero is exact
+        if other.lo == 0.0 && other.hi == 0.0 {
+            return self;
+        }
+        if self.lo == 0.0 && self.hi == 0.0 {
+            return other;
+        }
         Interval {
             lo: down(self.lo + other.lo),
             hi: up(self.hi + other.hi),
@@ -148,7 +176,15 @@ impl std::ops::Add for Interval {
 impl std::ops::Sub for Interval {
     type Output = Interval;
 
+    #[inline(always)]
     fn sub(self, other: Interval) -> Interval {
+        // subtracting an exact zero, or from one, is exact
+        if other.lo == 0.0 && other.hi == 0.0 {
+            return self;
+        }
+        if self.lo == 0.0 && self.hi == 0.0 {
+            return -other;
+        }
         Interval {
             lo: down(self.lo - other.hi),
             hi: up(self.hi - other.lo),
@@ -159,21 +195,44 @@ impl std::ops::Sub for Interval {
 impl std::ops::Mul for Interval {
     type Output = Interval;
 
+    #[inline(always)]
     fn mul(self, other: Interval) -> Interval {
-        if (self.lo == 0.0 && self.hi == 0.0) || (other.lo == 0.0 && other.hi == 0.0) {
+        let (a, b) = (self, other);
+        if (a.lo == 0.0 && a.hi == 0.0) || (b.lo == 0.0 && b.hi == 0.0) {
             return Interval::point(0.0);
         }
-        let p = [
-            self.lo * other.lo,
-            self.lo * other.hi,
-            self.hi * other.lo,
-            self.hi * other.hi,
-        ];
-        if p.iter().any(|x| x.is_nan()) {
+        // the extreme products by the signs of the operands (the classic
+        // nine cases), rather than all four products and their min and max
+        let (lo, hi) = if a.lo >= 0.0 {
+            if b.lo >= 0.0 {
+                (a.lo * b.lo, a.hi * b.hi)
+            } else if b.hi <= 0.0 {
+                (a.hi * b.lo, a.lo * b.hi)
+            } else {
+                (a.hi * b.lo, a.hi * b.hi)
+            }
+        } else if a.hi <= 0.0 {
+            if b.lo >= 0.0 {
+                (a.lo * b.hi, a.hi * b.lo)
+            } else if b.hi <= 0.0 {
+                (a.hi * b.hi, a.lo * b.lo)
+            } else {
+                (a.lo * b.hi, a.lo * b.lo)
+            }
+        } else if b.lo >= 0.0 {
+            (a.lo * b.hi, a.hi * b.hi)
+        } else if b.hi <= 0.0 {
+            (a.hi * b.lo, a.lo * b.lo)
+        } else {
+            (
+                (a.lo * b.hi).min(a.hi * b.lo),
+                (a.lo * b.lo).max(a.hi * b.hi),
+            )
+        };
+        if lo.is_nan() || hi.is_nan() {
+            // 0 · ∞ at an end: give up rather than guess
             return Interval::ENTIRE;
         }
-        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         Interval {
             lo: down(lo),
             hi: up(hi),
@@ -234,6 +293,52 @@ mod tests {
         let huge = Int::from(1) << 2000;
         let iv = Interval::of_int(&huge);
         assert!(iv.hi.is_infinite() && iv.lo == f64::MAX);
+    }
+
+    #[test]
+    fn products_enclose_every_corner() {
+        // the sign cases against the four corner products, on a grid of
+        // intervals with ends of every sign, zeros and infinities
+        let ends = [
+            f64::NEG_INFINITY,
+            -3.5,
+            -1.0,
+            -0.0,
+            0.0,
+            0.25,
+            2.0,
+            f64::INFINITY,
+        ];
+        let mut ivs = Vec::new();
+        for &lo in &ends {
+            for &hi in &ends {
+                if lo <= hi {
+                    ivs.push(Interval { lo, hi });
+                }
+            }
+        }
+        for &a in &ivs {
+            for &b in &ivs {
+                let p = a * b;
+                for x in [a.lo, a.hi] {
+                    for y in [b.lo, b.hi] {
+                        let c = x * y;
+                        if !c.is_nan() {
+                            assert!(p.lo <= c && c <= p.hi, "{a:?} * {b:?} = {p:?} misses {c}");
+                        }
+                    }
+                }
+                // an interior point too
+                let (x, y) = (a.mid(), b.mid());
+                if x.is_finite() && y.is_finite() && !(x * y).is_nan() {
+                    assert!(p.lo <= x * y && x * y <= p.hi);
+                }
+            }
+        }
+        let sq = Interval { lo: -2.0, hi: 3.0 }.square();
+        assert!(sq.lo == 0.0 && sq.hi >= 9.0);
+        let sq = Interval { lo: -3.0, hi: -2.0 }.square();
+        assert!(sq.lo <= 4.0 && sq.lo > 3.9 && sq.hi >= 9.0);
     }
 
     #[test]

@@ -21,9 +21,9 @@ mod time;
 
 pub use dashu_int::IBig as Int;
 pub use interval::Interval;
-pub use poly::Poly;
+pub use poly::{filtered_failure, Filtered, Poly};
 pub use rational::{decompose_f64, Rational};
-pub use time::Time;
+pub use time::{ExactTime, Time};
 
 use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
 

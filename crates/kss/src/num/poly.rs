@@ -180,11 +180,31 @@ impl Poly {
     /// only touches zero (even multiplicity) and stays positive are skipped;
     /// use [`Poly::first_root_after`] to see those too.
     pub fn first_failure_after(&self, t: &Time) -> Option<Time> {
+        self.failure_root().filter(|r| r > t)
+    }
+
+    /// [`Poly::first_failure_after`] for a function known to be positive
+    /// just after `t`; the root is deferred ([`Time::deferred`]) where the
+    /// filter can place it after `t`.
+    pub fn failure_after_positive(self, t: &Time) -> Option<Time> {
+        match filtered_root(self.iv, t.interval()) {
+            Filtered::Never => None,
+            Filtered::At(iv) => Some(Time::deferred(iv, FailureRoot(self))),
+            Filtered::Unsure => self.first_failure_after(t),
+        }
+    }
+
+    /// The one root at which the function can turn from positive to not
+    /// positive (whether before or after any given time): the root of a
+    /// decreasing linear function, the double root of a quadratic that opens
+    /// downwards, the smaller root of one that opens upwards, the larger of
+    /// one that opens downwards. `None` if there is no such root.
+    pub fn failure_root(&self) -> Option<Time> {
         // The sign just after each root follows from the root structure, so
         // no evaluation at a root (where the filter can never decide) is
         // needed, and only the one root where the sign can turn non-positive
         // is constructed.
-        let root = match self.degree() {
+        match self.degree() {
             None | Some(0) => None,
             // a linear function fails at its root only if it decreases
             Some(1) => (Sign::of(&self.c[1]) == Sign::Negative)
@@ -205,8 +225,112 @@ impl Poly {
                     Some(Time::quadratic_root(a, b, c, !opens_up))
                 }
             }
+        }
+    }
+}
+
+/// What the f64 filter can tell about when a certificate fails, from
+/// enclosures of its function's coefficients (see [`filtered_failure`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Filtered {
+    /// Positive just after `now` and never failing later.
+    Never,
+    /// Positive just after `now`; fails at [`Poly::failure_root`] of the
+    /// exact function, which lies in this interval, strictly after `now`.
+    At(Interval),
+    /// The filter cannot tell; ask the exact function.
+    Unsure,
+}
+
+/// The f64 filter of [`Poly::sign_after`] and [`Poly::first_failure_after`]
+/// together: `c` encloses the coefficients `c0, c1, c2` of a positive
+/// multiple of a certificate function (an enclosure that is exactly `[0, 0]`
+/// says the coefficient is exactly zero), and `now` encloses the current
+/// time. Decides only what the enclosures prove; everything else is
+/// [`Filtered::Unsure`].
+pub fn filtered_failure(c: [Interval; 3], now: Interval) -> Filtered {
+    let [c0, c1, c2] = c;
+    // positive at (every point of the enclosure of) now, hence just after
+    let at_now = c0 + now * (c1 + now * c2);
+    if at_now.sign() != Some(Sign::Positive) {
+        return Filtered::Unsure;
+    }
+    filtered_root(c, now)
+}
+
+/// [`filtered_failure`] for a function already known to be positive just
+/// after `now`: only where its failure root lies.
+fn filtered_root(c: [Interval; 3], now: Interval) -> Filtered {
+    let zero = |x: Interval| x.lo == 0.0 && x.hi == 0.0;
+    let [c0, c1, c2] = c;
+    if !now.is_finite() {
+        return Filtered::Unsure;
+    }
+    // a root's enclosure is worth keeping only when it is tight; a wide one
+    // would only make comparisons fall back to the exact path
+    let tight = |r: Interval| {
+        r.is_finite() && r.width() <= (r.lo.abs().max(r.hi.abs()) * 1e-12).max(1e-300)
+    };
+    let after = |r: Interval| {
+        if r.lo > now.hi && tight(r) {
+            Filtered::At(r)
+        } else {
+            Filtered::Unsure
+        }
+    };
+    if zero(c2) {
+        if zero(c1) || c1.lo > 0.0 {
+            return Filtered::Never;
+        }
+        if c1.hi < 0.0 {
+            // positive at now and decreasing: the root is after now
+            return after(-c0 / c1);
+        }
+        return Filtered::Unsure;
+    }
+    if c2.sign().is_none() {
+        return Filtered::Unsure;
+    }
+    let d = c1.square() - Interval::point(4.0) * c0 * c2;
+    if d.hi < 0.0 {
+        return Filtered::Never;
+    }
+    if d.sign() != Some(Sign::Positive) {
+        return Filtered::Unsure;
+    }
+    // the failure root is (−c1 − √d)/2c2 whatever the sign of c2 (the
+    // smaller root when c2 > 0, the larger when c2 < 0); computed without
+    // cancellation
+    let s = d.sqrt();
+    let two = Interval::point(2.0);
+    let r = if c1.lo >= 0.0 {
+        -(c1 + s) / (two * c2)
+    } else if c1.hi <= 0.0 {
+        (two * c0) / (s - c1)
+    } else {
+        -(c1 + s) / (two * c2)
+    };
+    if r.hi < now.lo {
+        // the function is positive at now, after the root where it turns
+        // negative: it never fails after now (a > 0: now is past both
+        // roots), or the enclosures contradict each other (a < 0)
+        return if c2.lo > 0.0 {
+            Filtered::Never
+        } else {
+            Filtered::Unsure
         };
-        root.filter(|r| r > t)
+    }
+    after(r)
+}
+
+/// The deferred [`Poly::failure_root`] of a polynomial.
+struct FailureRoot(Poly);
+
+impl super::ExactTime for FailureRoot {
+    fn exact(&self) -> Time {
+        self.0
+            .failure_root()
+            .expect("the filter proved that the function fails")
     }
 }
 
@@ -276,5 +400,70 @@ mod tests {
         assert_eq!(q.coeff(0), &Int::from(3));
         assert_eq!(q.coeff(1), &Int::from(-2));
         assert_eq!(q.roots(), vec![t(1.5)]);
+    }
+
+    /// The filter's answers, checked against the exact path on every
+    /// polynomial with small coefficients (scaled up so that they are not
+    /// all exactly representable) and a range of current times.
+    #[test]
+    fn filtered_failure_agrees_with_the_exact_answer() {
+        let nows = [t(-2.0), t(0.0), t(0.5), t(1.0), t(3.0)];
+        let mut deferred = 0;
+        for c0 in -4i64..=4 {
+            for c1 in -4i64..=4 {
+                for c2 in -3i64..=3 {
+                    for scale in [1i64, 3, (1 << 40) + 1] {
+                        let q = p(c0 * scale, c1 * scale, c2 * scale);
+                        for now in &nows {
+                            let exact_positive = q.sign_after(now) == Sign::Positive;
+                            let exact = q.first_failure_after(now);
+                            match filtered_failure(q.iv, now.interval()) {
+                                Filtered::Never => {
+                                    assert!(exact_positive && exact.is_none(), "{q:?} at {now:?}")
+                                }
+                                Filtered::At(iv) => {
+                                    assert!(exact_positive, "{q:?} at {now:?}");
+                                    let r = exact.clone().expect("a failure");
+                                    assert!(r.interval().overlaps(&iv) && iv.lo > now.interval().hi);
+                                    deferred += 1;
+                                }
+                                Filtered::Unsure => {}
+                            }
+                            if exact_positive {
+                                // the deferred root, once computed, is the exact one
+                                let d = q.clone().failure_after_positive(now);
+                                assert_eq!(d, exact, "{q:?} at {now:?}");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(deferred > 1000, "the filter deferred only {deferred} roots");
+    }
+
+    #[test]
+    fn deferred_times_order_hash_and_compute_once() {
+        use std::collections::hash_map::DefaultHasher;
+        use std::hash::{Hash, Hasher};
+        let q = p(-2, 0, 1); // t² − 2 fails (turns negative) at −√2
+        let q = q.neg(); // 2 − t² fails at +√2
+        let d = q.clone().failure_after_positive(&t(0.0)).expect("fails");
+        assert!(d.is_pending());
+        let exact = q.first_failure_after(&t(0.0)).expect("fails");
+        // filtered comparisons leave it pending
+        assert!(d < t(1.5) && d > t(1.4));
+        assert!(d.is_pending());
+        // an exact comparison computes it
+        assert_eq!(d, exact);
+        assert!(!d.is_pending());
+        let h = |x: &Time| {
+            let mut s = DefaultHasher::new();
+            x.hash(&mut s);
+            s.finish()
+        };
+        assert_eq!(h(&d), h(&exact));
+        assert_eq!(d.as_rational(), None);
+        assert_eq!(format!("{d:?}"), format!("{exact:?}"));
     }
 }

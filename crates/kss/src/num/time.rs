@@ -11,24 +11,71 @@
 use std::cmp::Ordering;
 use std::fmt;
 use std::hash::{Hash, Hasher};
+use std::sync::{Arc, OnceLock};
 
 use dashu_base::{Gcd, SquareRoot};
 
 use super::{count_exact, count_filtered, Int, Interval, Rational};
 
 /// An exact point in time.
+///
+/// A time may be *deferred* ([`Time::deferred`]): it is known by a rigorous
+/// enclosure and a way to compute it exactly, and the exact form is computed
+/// the first time something needs it (a comparison the enclosures cannot
+/// decide, a sign at this instant, its rational value). Most certificate
+/// failure times are replaced before they come due, so most are never
+/// computed exactly. Deferral changes no answer, only when work is done.
 #[derive(Clone)]
 pub struct Time {
     kind: Kind,
     iv: Interval,
 }
 
-#[derive(Clone, PartialEq, Eq, Hash)]
+#[derive(Clone)]
 enum Kind {
     Rat(Rational),
     /// The root `(-b + s·√d) / 2a` of the primitive irreducible `a t² + b t + c`
     /// with `a > 0`, `d = b² − 4ac > 0` not a square; `s = +1` if `plus`.
     Root(QuadRoot),
+    /// Computed on first use; the computed time is never itself deferred.
+    Deferred(Arc<dyn Force>),
+}
+
+/// The exact computation behind a deferred [`Time`].
+pub trait ExactTime: Send + Sync + 'static {
+    /// The exact time. It must lie in the enclosure the deferred time was
+    /// made with.
+    fn exact(&self) -> Time;
+}
+
+trait Force: Send + Sync {
+    fn force(&self) -> &Time;
+    fn pending(&self) -> bool;
+}
+
+struct Once<S> {
+    src: S,
+    cell: OnceLock<Time>,
+    iv: Interval,
+}
+
+impl<S: ExactTime> Force for Once<S> {
+    fn force(&self) -> &Time {
+        self.cell.get_or_init(|| {
+            let t = self.src.exact().resolved().clone();
+            assert!(
+                t.iv.overlaps(&self.iv),
+                "a deferred time's exact value {t:?} is outside its enclosure [{:e}, {:e}]",
+                self.iv.lo,
+                self.iv.hi
+            );
+            t
+        })
+    }
+
+    fn pending(&self) -> bool {
+        self.cell.get().is_none()
+    }
 }
 
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -180,18 +227,48 @@ impl Time {
         }
     }
 
+    /// A deferred time: `iv` must be a rigorous enclosure of `src.exact()`,
+    /// which is computed (once) when first needed.
+    pub fn deferred<S: ExactTime>(iv: Interval, src: S) -> Time {
+        Time {
+            kind: Kind::Deferred(Arc::new(Once {
+                src,
+                cell: OnceLock::new(),
+                iv,
+            })),
+            iv,
+        }
+    }
+
+    /// Whether this is a deferred time whose exact form is not computed yet
+    /// (for tests and statistics).
+    pub fn is_pending(&self) -> bool {
+        match &self.kind {
+            Kind::Deferred(f) => f.pending(),
+            _ => false,
+        }
+    }
+
+    /// The exact form: `self` unless deferred, else the computed time.
+    fn resolved(&self) -> &Time {
+        match &self.kind {
+            Kind::Deferred(f) => f.force(),
+            _ => self,
+        }
+    }
+
     /// The rational value, if this time is rational.
     pub fn as_rational(&self) -> Option<&Rational> {
-        match &self.kind {
+        match &self.resolved().kind {
             Kind::Rat(r) => Some(r),
-            Kind::Root(_) => None,
+            _ => None,
         }
     }
 
     pub(crate) fn as_root(&self) -> Option<&QuadRoot> {
-        match &self.kind {
-            Kind::Rat(_) => None,
+        match &self.resolved().kind {
             Kind::Root(q) => Some(q),
+            _ => None,
         }
     }
 
@@ -203,7 +280,8 @@ impl Time {
     /// The time as a double, within a relative error far below 1e-12 (for
     /// display and output only).
     pub fn to_f64(&self) -> f64 {
-        match &self.kind {
+        match &self.resolved().kind {
+            Kind::Deferred(_) => unreachable!("resolved"),
             Kind::Rat(r) => r.to_f64(),
             Kind::Root(q) => {
                 // `bounds(k)` is tight to 2^-k/(2a) in absolute terms, which is
@@ -227,9 +305,10 @@ impl Time {
     /// Rational lower and upper bounds, at least as tight as `2^-k` in
     /// absolute terms (exact for rational times).
     fn bounds(&self, k: usize) -> (Rational, Rational) {
-        match &self.kind {
+        match &self.resolved().kind {
             Kind::Rat(r) => (r.clone(), r.clone()),
             Kind::Root(q) => q.bounds(k),
+            Kind::Deferred(_) => unreachable!("resolved"),
         }
     }
 
@@ -265,7 +344,8 @@ impl Time {
     }
 
     fn exact_cmp(&self, other: &Time) -> Ordering {
-        match (&self.kind, &other.kind) {
+        match (&self.resolved().kind, &other.resolved().kind) {
+            (Kind::Deferred(_), _) | (_, Kind::Deferred(_)) => unreachable!("resolved"),
             (Kind::Rat(x), Kind::Rat(y)) => x.cmp(y),
             (Kind::Root(x), Kind::Rat(r)) => root_cmp_rational(x, r),
             (Kind::Rat(r), Kind::Root(x)) => root_cmp_rational(x, r).reverse(),
@@ -348,7 +428,17 @@ impl Hash for Time {
     fn hash<H: Hasher>(&self, state: &mut H) {
         // Rationals are reduced and irrational roots carry their primitive
         // minimal polynomial, so equal times have equal representations.
-        self.kind.hash(state);
+        match &self.resolved().kind {
+            Kind::Rat(r) => {
+                0u8.hash(state);
+                r.hash(state);
+            }
+            Kind::Root(q) => {
+                1u8.hash(state);
+                q.hash(state);
+            }
+            Kind::Deferred(_) => unreachable!("resolved"),
+        }
     }
 }
 
@@ -383,7 +473,8 @@ impl Ord for Time {
 
 impl fmt::Debug for Time {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.kind {
+        match &self.resolved().kind {
+            Kind::Deferred(_) => unreachable!("resolved"),
             Kind::Rat(r) => write!(f, "Time({r:?})"),
             Kind::Root(q) => write!(
                 f,

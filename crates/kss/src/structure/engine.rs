@@ -12,8 +12,8 @@ use super::events::{classify, nearby_contact, settled_between, Failure};
 use super::geo::Geo;
 use super::ops::{Outcome, Owner};
 use super::{Att, CorrId, Kss, Obj, TriId};
-use crate::motion::orient_poly;
-use crate::num::{Poly, Rational, Sign, Time};
+use crate::motion::{orient_poly, FramePoint};
+use crate::num::{filtered_failure, ExactTime, Filtered, Interval, Poly, Rational, Sign, Time};
 use crate::sim::{EventKey, EventQueue};
 use crate::world::BodyId;
 
@@ -25,6 +25,9 @@ macro_rules! trace {
         eprintln!($($arg)*);
     };
 }
+
+/// A hash map with a fixed hasher (the same order in every run).
+type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
 
 /// A certificate, where it sits in the queue, and who owns it.
 #[derive(Clone, Debug)]
@@ -41,10 +44,13 @@ struct Scheduled {
 pub struct Kinetic {
     /// The combinatorial structure.
     pub kss: Kss,
-    certs: BTreeMap<[Att; 3], Scheduled>,
+    /// Hashed (with a fixed, deterministic hasher): looked up several times
+    /// per event; iterated only where the order does not matter or is
+    /// sorted first.
+    certs: FastMap<[Att; 3], Scheduled>,
     /// The certificates that involve each body (for local rescheduling when
     /// a flight plan changes).
-    by_body: std::collections::HashMap<BodyId, BTreeSet<[Att; 3]>>,
+    by_body: FastMap<BodyId, BTreeSet<[Att; 3]>>,
     owned_tri: Vec<Vec<[Att; 3]>>,
     owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,
@@ -77,9 +83,11 @@ impl Kinetic {
     /// Every certificate with its owners and scheduled failure time (a
     /// debugging view, in the order of their points).
     pub fn certificate_list(&self) -> Vec<(Cert, Vec<Owner>, Option<Time>)> {
-        self.certs
-            .values()
-            .map(|s| {
+        let mut keys: Vec<&[Att; 3]> = self.certs.keys().collect();
+        keys.sort();
+        keys.into_iter()
+            .map(|p| {
+                let s = &self.certs[p];
                 let t = s
                     .key
                     .and_then(|k| self.queue.get(k).map(|(t, _)| t.clone()));
@@ -107,15 +115,102 @@ pub fn cert_poly(world: &Geo, c: &Cert) -> Poly {
     }
 }
 
+/// Enclosures of the coefficients of a positive multiple of [`cert_poly`]
+/// (an enclosure `[0, 0]` where the coefficient is exactly zero because two
+/// of the points are on one body), from the f64 view of the points.
+fn cert_enclosure(world: &Geo, c: &Cert) -> Option<[Interval; 3]> {
+    let order = c.kind == super::certs::CertKind::Order;
+    // the same points as cert_poly: Order is −(p0 − p1)·(p2 − p1)
+    let [p, q, r] = if order { [c.p[1], c.p[0], c.p[2]] } else { c.p };
+    let [ep, eq, er] = [
+        world.enclose_linear(p)?,
+        world.enclose_linear(q)?,
+        world.enclose_linear(r)?,
+    ];
+    let zero = Interval::point(0.0);
+    // q − p as linear enclosures; the velocity part is exactly zero for two
+    // points of one body
+    let diff = |a: Att, ea: &[Interval; 4], b: Att, eb: &[Interval; 4]| {
+        let same = a.obj == b.obj;
+        [
+            eb[0] - ea[0],
+            if same { zero } else { eb[1] - ea[1] },
+            eb[2] - ea[2],
+            if same { zero } else { eb[3] - ea[3] },
+        ]
+    };
+    let [ux0, ux1, uy0, uy1] = diff(p, &ep, q, &eq);
+    let [vx0, vx1, vy0, vy1] = diff(p, &ep, r, &er);
+    let same_qr = q.obj == r.obj;
+    let mut e = if order {
+        [
+            ux0 * vx0 + uy0 * vy0,
+            ux0 * vx1 + ux1 * vx0 + uy0 * vy1 + uy1 * vy0,
+            ux1 * vx1 + uy1 * vy1,
+        ]
+    } else {
+        [
+            ux0 * vy0 - uy0 * vx0,
+            ux0 * vy1 + ux1 * vy0 - uy0 * vx1 - uy1 * vx0,
+            // u and v move alike when q and r are on one body
+            if same_qr { zero } else { ux1 * vy1 - uy1 * vx1 },
+        ]
+    };
+    if order || c.sign == Sign::Negative {
+        e = e.map(|x| -x);
+    }
+    Some(e)
+}
+
+/// A deferred failure time's exact computation: the certificate's three
+/// points with the frames they moved by when it was scheduled.
+struct DeferredFailure {
+    p: [FramePoint; 3],
+    kind: super::certs::CertKind,
+    sign: Sign,
+}
+
+impl ExactTime for DeferredFailure {
+    fn exact(&self) -> Time {
+        let [a, b, c] = &self.p;
+        let poly = if self.kind == super::certs::CertKind::Order {
+            crate::motion::dot_poly(&b.linear(), &a.linear(), &c.linear()).neg()
+        } else {
+            let p = orient_poly(&a.linear(), &b.linear(), &c.linear());
+            if self.sign == Sign::Negative {
+                p.neg()
+            } else {
+                p
+            }
+        };
+        poly.failure_root()
+            .expect("the filter proved that the certificate fails")
+    }
+}
+
 /// When certificate `c` fails, given that `now` is the current time: `now`
 /// itself if it is already wrong just after `now`, else the first later root
 /// where it stops being positive, if any.
 pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
+    if let Some(e) = cert_enclosure(world, c) {
+        match filtered_failure(e, now.interval()) {
+            Filtered::Never => return None,
+            Filtered::At(iv) => {
+                let src = DeferredFailure {
+                    p: c.p.map(|a| world.frame_point(a)),
+                    kind: c.kind,
+                    sign: c.sign,
+                };
+                return Some(Time::deferred(iv, src));
+            }
+            Filtered::Unsure => {}
+        }
+    }
     let p = cert_poly(world, c);
     if p.sign_after(now) != Sign::Positive {
         return Some(now.clone());
     }
-    p.first_failure_after(now)
+    p.failure_after_positive(now)
 }
 
 /// The distinct bodies of a triple.
@@ -203,19 +298,18 @@ fn contact_pairs(
                 continue;
             }
             let (bx, by) = (world.body(x), world.body(y));
-            // bounding boxes first, the exact test only where they meet;
-            // widened outwards by far more than the rounding of the position
-            // and of the sum (relative to the larger term, so that
-            // cancellation cannot hide a touch)
+            // bounding boxes first (rigorous enclosures of the placed boxes
+            // at `t`), the exact test only where they meet
             let boxed = |body: &crate::world::Body| {
                 let [x0, x1, y0, y1] = body.shape.bounds();
-                let [px, py] = body.traj.position_at(r).to_f64();
-                let pad = |a: f64, b: f64| (a.abs() + b.abs()) * 1e-9 + 1e-300;
+                let o = Interval::point(0.0);
+                let [px, py] = body.frame.enclose(o, o, t.interval());
+                let p = Interval::point;
                 [
-                    px + x0 - pad(px, x0),
-                    px + x1 + pad(px, x1),
-                    py + y0 - pad(py, y0),
-                    py + y1 + pad(py, y1),
+                    (px + p(x0)).lo,
+                    (px + p(x1)).hi,
+                    (py + p(y0)).lo,
+                    (py + p(y1)).hi,
                 ]
             };
             let (ex, ey) = (boxed(bx), boxed(by));
@@ -485,8 +579,14 @@ impl Kinetic {
             let Some(s) = self.certs.get(&p) else {
                 continue;
             };
+            // the turn is zero just after now only if it is zero for ever
+            // (the three points slide along one line); the filter rules
+            // that out wherever it decides a sign
             let lp = |a: Att| world.point(a);
-            let zero = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).sign_after(now) == Sign::Zero;
+            let zero = world
+                .orient_filtered(p[0], p[1], p[2], now.interval())
+                .is_none()
+                && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
             let owners: Vec<Owner> = s.owners.clone();
             if s.cert.kind == super::certs::CertKind::Order {
                 // an order certificate whose three points leave their common
@@ -1112,7 +1212,8 @@ impl Kinetic {
                 });
                 trace!("rebuild at {} holds {holds}", at_t.to_f64());
                 if holds {
-                    let keys: Vec<[Att; 3]> = fresh.certs.keys().copied().collect();
+                    let mut keys: Vec<[Att; 3]> = fresh.certs.keys().copied().collect();
+                    keys.sort();
                     for p in &keys {
                         fresh.reschedule(world, p, now);
                     }

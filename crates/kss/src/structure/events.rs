@@ -53,8 +53,24 @@ fn body(a: Att) -> BodyId {
 
 /// Classify certificate `c`, whose three points are collinear at time `t`.
 pub fn classify(world: &Geo, c: &Cert, t: &Time) -> Failure {
-    let pts = c.p.map(|a| point(world, a));
-    match middle_of_collinear([&pts[0], &pts[1], &pts[2]], t) {
+    // which point is strictly between the other two: (a − m)·(b − m) < 0,
+    // from the filter where it decides (at most one point can be), exactly
+    // otherwise
+    let tiv = t.interval();
+    let filtered: [Option<crate::num::Sign>; 3] = std::array::from_fn(|m| {
+        world.dot_filtered(c.p[(m + 1) % 3], c.p[m], c.p[(m + 2) % 3], tiv)
+    });
+    let middle = match filtered
+        .iter()
+        .position(|&s| s == Some(crate::num::Sign::Negative))
+    {
+        Some(m) => Some(m),
+        None => {
+            let pts = c.p.map(|a| point(world, a));
+            middle_of_collinear([&pts[0], &pts[1], &pts[2]], t)
+        }
+    };
+    match middle {
         None => {
             // two of the points coincide: vertices of two different bodies
             let coincide = |i: usize, j: usize| {
@@ -209,6 +225,16 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
 /// cannot be decided so (no approximation, an irrational instant, two
 /// vertices meeting, or approximations sliding along `L`).
 pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
+    // only between two approximations, and only where the three points are
+    // collinear at `t` (the filter rules that out cheaply)
+    let approximated = |a: Att| matches!(a.obj, Obj::Body(b) if world.shapes.approx(b).is_some());
+    if !p.iter().all(|&a| approximated(a))
+        || world
+            .orient_filtered(p[0], p[1], p[2], t.interval())
+            .is_some()
+    {
+        return None;
+    }
     let r = t.as_rational()?;
     let pos = |a: Att| world.position(a, r);
     let pts = [pos(p[0])?, pos(p[1])?, pos(p[2])?];

@@ -14,8 +14,8 @@ use std::sync::Arc;
 
 use super::{Att, Obj};
 use crate::geom::Point;
-use crate::hier::{EdgeArray, Exposed};
-use crate::motion::LinearPoint;
+use crate::hier::{EdgeArray, Exposed, HomPoint};
+use crate::motion::{FramePoint, LinearPoint};
 use crate::num::{Interval, Rational, Sign};
 use crate::world::{BodyId, World};
 
@@ -235,6 +235,46 @@ impl<'a> Geo<'a> {
                 h.moving(&body.frame)
             }
         }
+    }
+
+    /// Vertex `a` as a body-frame point with its body's frame, to compute
+    /// its moving position later ([`FramePoint::linear`] is
+    /// [`Geo::point`]`(a)` for the motion of now).
+    pub fn frame_point(&self, a: Att) -> FramePoint {
+        let Obj::Body(b) = a.obj else {
+            unreachable!("a finite point was expected")
+        };
+        let body = self.world.body(b);
+        let h = match self.shapes.approx(b) {
+            None => HomPoint::vertex(&body.shape, a.v as usize),
+            Some(ap) => ap
+                .array
+                .vertex_of(&body.shape, &ap.exposed, a.v as usize)
+                .expect("an exposed id with an approximation vertex"),
+        };
+        FramePoint {
+            frame: body.frame.clone(),
+            x: h.x,
+            y: h.y,
+            w: h.w,
+        }
+    }
+
+    /// Enclosures `[x0, x1, y0, y1]` of `a`'s moving position `(x0 + x1·t,
+    /// y0 + y1·t)` (see [`crate::motion::Frame::linear_enclosure`]; `None`
+    /// for `ω`).
+    pub fn enclose_linear(&self, a: Att) -> Option<[Interval; 4]> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let body = self.world.body(b);
+        let [x, y] = match self.shapes.approx(b) {
+            None => body.shape.int_vertex_enclosure(a.v as usize),
+            Some(ap) => ap
+                .array
+                .vertex_enclose(&body.shape, &ap.exposed, a.v as usize)?,
+        };
+        Some(body.frame.linear_enclosure(x, y))
     }
 
     /// An enclosure of `a`'s position at a time in `t` (the f64 filter of
