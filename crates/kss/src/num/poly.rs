@@ -424,7 +424,9 @@ mod tests {
                                 Filtered::At(iv) => {
                                     assert!(exact_positive, "{q:?} at {now:?}");
                                     let r = exact.clone().expect("a failure");
-                                    assert!(r.interval().overlaps(&iv) && iv.lo > now.interval().hi);
+                                    assert!(
+                                        r.interval().overlaps(&iv) && iv.lo > now.interval().hi
+                                    );
                                     deferred += 1;
                                 }
                                 Filtered::Unsure => {}

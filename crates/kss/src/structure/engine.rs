@@ -437,10 +437,14 @@ impl Kinetic {
             s.owners.retain(|&x| x != o);
             if s.owners.is_empty() {
                 let (cert, key) = (s.cert, s.key);
-                if self.handling != Some(*p)
-                    && self.due_now(p, key, now)
-                    && is_failing(world, &cert, now)
-                {
+                let due = self.handling == Some(*p) || self.due_now(p, key, now);
+                if !due && fresh.contains(&cert) {
+                    // the same certificate again, not due at this instant:
+                    // it keeps its place in the queue (its failure time
+                    // depends only on its points) and is owned again below
+                    continue;
+                }
+                if self.handling != Some(*p) && due && is_failing(world, &cert, now) {
                     pending.insert(*p, cert);
                 }
                 self.drop_cert(p);
