@@ -659,12 +659,13 @@ impl KineticEngine {
             world,
             shapes: &self.shapes,
         };
-        if local {
+        if local || (!after_response && self.k.repair_refined(&geo, &bodies, triples, t)) {
             for p in triples {
                 self.k.reschedule_idle(&geo, p, t);
             }
         } else if after_response {
-            self.k.rebuild_after_response("refine_rebuild");
+            self.k
+                .rebuild_after_response("refine_rebuild", (&bodies, triples));
         } else {
             self.k
                 .rebuild_after(&geo, t, "refine_rebuild")
@@ -748,9 +749,14 @@ impl KineticEngine {
                 world,
                 shapes: &self.shapes,
             };
-            self.k
-                .rebuild_after(&geo, t, "refine_rebuild")
-                .map_err(RunError::Internal)?;
+            let mut bodies: Vec<BodyId> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
+            bodies.sort();
+            bodies.dedup();
+            if !self.k.repair_refined(&geo, &bodies, &[], t) {
+                self.k
+                    .rebuild_after(&geo, t, "refine_rebuild")
+                    .map_err(RunError::Internal)?;
+            }
         }
         Ok(())
     }

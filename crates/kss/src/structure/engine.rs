@@ -68,6 +68,11 @@ pub struct Kinetic {
     /// instant with contacts: the structure is rebuilt when the collision
     /// response is applied (the rebuild's kind for the statistics).
     broken: Option<&'static str>,
+    /// For a `refine_rebuild` after the response: the bodies whose
+    /// approximations were refined (the region a local repair takes
+    /// instead), unless an event was deferred meanwhile (`None`: the
+    /// deferred events need the whole structure rebuilt).
+    broken_around: Option<(Vec<BodyId>, Vec<[Att; 3]>)>,
     /// Internal events by kind.
     pub counts: BTreeMap<&'static str, u64>,
     /// The instant of the latest [`Kinetic::rebuild_after`] that found no
@@ -628,7 +633,14 @@ impl Kinetic {
             }
         }
         if let Some(kind) = self.broken.take() {
-            self.rebuild_after(world, now, kind)?;
+            let (around, triples) = self.broken_around.take().unwrap_or_default();
+            if kind == "refine_rebuild" && self.repair_refined(world, &around, &triples, now) {
+                for p in &triples {
+                    self.reschedule_idle(world, p, now);
+                }
+            } else {
+                self.rebuild_after(world, now, kind)?;
+            }
         }
         Ok(())
     }
@@ -777,6 +789,48 @@ impl Kinetic {
         let repaired = self.repair_with(world, (bodies, singles), now);
         self.kss.handling = None;
         repaired
+    }
+
+    /// After the approximations of `bodies` were refined where the
+    /// structure could not follow in place (failing `triples` at `now`,
+    /// popped): triangulate again the region around those bodies only, as
+    /// [`Kinetic::repair_around`] (every triangle and corridor that names
+    /// one of their vertices is in that region, so no stale vertex stays);
+    /// counted as a local repair. `false` when there is none (the caller
+    /// rebuilds the whole structure; a half-done splice is replaced then).
+    pub fn repair_refined(
+        &mut self,
+        world: &Geo,
+        bodies: &[BodyId],
+        triples: &[[Att; 3]],
+        now: &Time,
+    ) -> bool {
+        if bodies.is_empty() || self.broken.is_some() {
+            return false;
+        }
+        // the certificates that failed stay out of the queue until their
+        // owners are rescheduled (the repair takes them over or drops them)
+        let handled = triples.first().map(|&p| super::certs::rotate_to_min(p));
+        self.kss.handling = handled;
+        let repaired = self.repair_with(world, (bodies, false), now);
+        self.kss.handling = None;
+        if !matches!(repaired, Ok(true)) {
+            return false;
+        }
+        // the new region took over certificates it shares with the old one
+        // without computing their failure times again, but the refined
+        // approximation vertices moved: every certificate on these bodies
+        // is scheduled anew
+        let on_bodies: BTreeSet<[Att; 3]> = bodies
+            .iter()
+            .filter_map(|b| self.by_body.get(b))
+            .flatten()
+            .copied()
+            .collect();
+        for p in &on_bodies {
+            self.reschedule(world, p, now);
+        }
+        true
     }
 
     fn repair_with(
@@ -995,12 +1049,26 @@ impl Kinetic {
     /// rebuild once the collision response has been applied.
     pub fn give_up_instant(&mut self) {
         self.broken = Some("degenerate_rebuild");
+        self.broken_around = None;
     }
 
     /// The structure is rebuilt (counted as `kind`) once the collision
-    /// response at this instant has been applied.
-    pub fn rebuild_after_response(&mut self, kind: &'static str) {
-        self.broken.get_or_insert(kind);
+    /// response at this instant has been applied; for a refinement of the
+    /// approximations of `around` alone (and no other event deferred
+    /// meanwhile), only the region around those bodies is triangulated
+    /// again ([`Kinetic::repair_refined`]) where that works, and the failed
+    /// `triples` are scheduled again.
+    pub fn rebuild_after_response(
+        &mut self,
+        kind: &'static str,
+        (around, triples): (&[BodyId], &[[Att; 3]]),
+    ) {
+        if self.broken.is_none() {
+            self.broken = Some(kind);
+            self.broken_around = Some((around.to_vec(), triples.to_vec()));
+        } else {
+            self.broken_around = None;
+        }
     }
 
     /// Whether a failure that could be a contact is still queued at `t`
@@ -1144,6 +1212,8 @@ impl Kinetic {
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, String> {
         if self.broken.is_some() {
+            // this event waits for the rebuild: a local repair would miss it
+            self.broken_around = None;
             return Ok(Step::Deferred(t));
         }
         match self.handle(world, p, t.clone(), contacts, collides) {
@@ -1182,6 +1252,7 @@ impl Kinetic {
                     t.to_f64()
                 );
                 self.broken = Some("degenerate_rebuild");
+                self.broken_around = None;
                 Ok(Step::Deferred(t))
             }
             other => other,

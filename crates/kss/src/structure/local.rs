@@ -129,7 +129,19 @@ pub fn between_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> 
 fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> bool {
     let v = j.v;
     let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
-    let tn = |a, b, c| turn_on(world, a, b, c, t, side);
+    // each of the five points enclosed once for the up to eight turns below
+    let tiv = t.interval();
+    let pts = [v, up, down, j.prev, j.next];
+    let ivs = pts.map(|a| world.enclose(a, tiv));
+    let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| ivs[i]);
+    let tn = |a: Att, b: Att, c: Att| {
+        if let (Some(ea), Some(eb), Some(ec)) = (at(a), at(b), at(c)) {
+            if let Some(s) = super::geo::orient_enclosed(ea, eb, ec) {
+                return s;
+            }
+        }
+        turn_on(world, a, b, c, t, side)
+    };
     // the polygon's corner at v: left of (down → v) and of (v → up)
     let in_corner = |w: Att| tn(down, v, w) == Sign::Positive && tn(v, up, w) == Sign::Positive;
     // a zero turn is straight, or a cusp (an angle of zero: two bodies

@@ -188,7 +188,8 @@ impl Kss {
             let c = &self.corrs[k.0 as usize];
             let (a_s, _, _, b_t) = self.ends(k);
             for (obj, from, len) in [(c.a, a_s, c.len_a), (c.b, b_t, c.len_b)] {
-                if from.is_omega() || (!keep && in_set(obj)) {
+                // a kept body's boundary is taken whole below
+                if from.is_omega() || in_set(obj) {
                     continue;
                 }
                 ends.push(from);
@@ -199,6 +200,18 @@ impl Kss {
                     v = w;
                 }
                 ends.push(v);
+            }
+        }
+        // a kept body's whole boundary as it is now (the union of its
+        // chains in the region's corridors; read from the polygon rather
+        // than walked along the chains, whose lengths are stale when its
+        // approximation was just refined)
+        if keep {
+            for &b in set {
+                for id in world.ids(b) {
+                    let v = Att::vertex(b, id);
+                    chains.push((v, world.cw(v, 1)));
+                }
             }
         }
         // local vertex numbering
