@@ -28,7 +28,7 @@ use std::sync::Arc;
 
 use crate::geom::{for_each_minkowski_edge, BodyPolygon, Point, PolygonDefect};
 use crate::motion::{Frame, LinearPoint, Trajectory};
-use crate::num::{Int, Rational, Sign, Time};
+use crate::num::{Int, Interval, Rational, Sign, Time};
 use crate::scenario::{CollisionMode, Scenario, ScenarioError};
 
 /// Index of a body in the world.
@@ -642,41 +642,54 @@ impl World {
             return ba.traj.position_at(t).add(&ba.centroid).to_f64();
         };
         let (na, nb) = (ba.shape.len(), bb.shape.len());
-        // every vertex as a moving point (integer polynomials), its signs
-        // taken exactly at `t` (the interval filter first): no rational
-        // positions but the few averaged at the end
-        let va: Vec<LinearPoint> = (0..na).map(|i| ba.vertex(i)).collect();
-        let vb: Vec<LinearPoint> = (0..nb).map(|j| bb.vertex(j)).collect();
+        // each candidate against every edge of both polygons: the f64
+        // filter on enclosures of the positions at `t` first, the exact
+        // sign of the moving points' integer polynomial only where it is
+        // undecided (the touching edges); no rational positions but the
+        // few averaged at the end
         let tt = Time::from_rational(t.clone());
-        let mut candidates: Vec<LinearPoint> = Vec::new();
+        let tiv = tt.interval();
+        let enclose = |body: &Body, i: usize| {
+            let [x, y] = body.shape.int_vertex_enclosure(i);
+            body.frame.enclose(x, y, tiv)
+        };
+        let ea: Vec<[Interval; 2]> = (0..na).map(|i| enclose(ba, i)).collect();
+        let eb: Vec<[Interval; 2]> = (0..nb).map(|j| enclose(bb, j)).collect();
+        // a candidate: a vertex of b (`true`) or of a, by index
+        let mut candidates: Vec<(bool, usize)> = Vec::new();
         for (source, other) in &c.features {
             match *source {
-                Ok(j) => {
-                    candidates.push(vb[j].clone());
-                    candidates.push(vb[(j + 1) % nb].clone());
-                    candidates.push(va[*other].clone());
-                }
-                Err(i) => {
-                    candidates.push(va[i].clone());
-                    candidates.push(va[(i + 1) % na].clone());
-                    candidates.push(vb[*other].clone());
-                }
+                Ok(j) => candidates.extend([(true, j), (true, (j + 1) % nb), (false, *other)]),
+                Err(i) => candidates.extend([(false, i), (false, (i + 1) % na), (true, *other)]),
             }
         }
-        let inside = |vs: &[LinearPoint], p: &LinearPoint| {
-            let n = vs.len();
+        let body_of = |on_b: bool| if on_b { bb } else { ba };
+        let enc_of = |(on_b, i): (bool, usize)| if on_b { eb[i] } else { ea[i] };
+        let inside = |on_b: bool, p: (bool, usize)| {
+            let (body, e) = (body_of(on_b), if on_b { &eb } else { &ea });
+            let n = e.len();
+            let [px, py] = enc_of(p);
             (0..n).all(|i| {
-                crate::motion::orient_poly(&vs[i], &vs[(i + 1) % n], p).sign_at(&tt)
-                    != Sign::Negative
+                let ([ux, uy], [vx, vy]) = (e[i], e[(i + 1) % n]);
+                match ((vx - ux) * (py - uy) - (vy - uy) * (px - ux)).sign() {
+                    Some(s) if s != Sign::Zero => s == Sign::Positive,
+                    _ => {
+                        let q = body_of(p.0).vertex(p.1);
+                        crate::motion::orient_poly(&body.vertex(i), &body.vertex((i + 1) % n), &q)
+                            .sign_at(&tt)
+                            != Sign::Negative
+                    }
+                }
             })
         };
         let on_both: Vec<[f64; 2]> = candidates
             .iter()
-            .filter(|p| inside(&va, p) && inside(&vb, p))
-            .map(|p| p.at(t).to_f64())
+            .filter(|&&p| inside(false, p) && inside(true, p))
+            .map(|&(on_b, i)| body_of(on_b).vertex(i).at(t).to_f64())
             .collect();
         if on_both.is_empty() {
-            return candidates[0].at(t).to_f64();
+            let (on_b, i) = candidates[0];
+            return body_of(on_b).vertex(i).at(t).to_f64();
         }
         centroid_f64(&on_both)
     }

@@ -197,6 +197,11 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
         if world.orient_filtered(e0, e1, u, tiv).is_some() {
             return false;
         }
+        // (e0 − u)·(e1 − u) > 0: u is beyond an end of the edge (the usual
+        // case here), decided without the exact turn
+        if world.dot_filtered(e0, u, e1, tiv) == Some(crate::num::Sign::Positive) {
+            return false;
+        }
         let (pu, p0, p1) = (world.point(u), world.point(e0), world.point(e1));
         crate::motion::orient_poly(&p0, &p1, &pu).sign_at(t) == crate::num::Sign::Zero
             && crate::motion::dot_poly(&pu, &p0, &p1).sign_at(t) != crate::num::Sign::Positive
