@@ -112,9 +112,25 @@ pub struct EdgeArray {
     h: u32,
     n: usize,
     entries: Vec<Entry>,
+    /// Enclosures of each entry's `nx, ny, c` (the filter's input,
+    /// converted once).
+    ivs: Enclosures,
     edge_entry: Vec<usize>,
     coarsest_level: u32,
 }
+
+/// The entries' coefficients as f64 enclosures: derived from the entries,
+/// so two arrays with equal entries compare equal whatever these hold.
+#[derive(Clone, Debug)]
+struct Enclosures(Vec<[Interval; 3]>);
+
+impl PartialEq for Enclosures {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Eq for Enclosures {}
 
 /// `(x, y) · (u, v)`.
 fn dot(a: (&Int, &Int), b: (&Int, &Int)) -> Int {
@@ -370,10 +386,17 @@ impl EdgeArray {
             }
         }
         debug_assert_eq!(entries.len(), m);
+        let ivs = Enclosures(
+            entries
+                .iter()
+                .map(|e| [&e.nx, &e.ny, &e.c].map(Interval::of_int))
+                .collect(),
+        );
         let mut array = EdgeArray {
             h,
             n,
             entries,
+            ivs,
             edge_entry,
             coarsest_level: 0,
         };
@@ -417,7 +440,8 @@ impl EdgeArray {
         &self.entries[k]
     }
 
-    /// Mutable access for corruption tests.
+    /// Mutable access for corruption tests (the exact checks only: the
+    /// filter's enclosures keep the entry's old values).
     #[cfg(test)]
     pub(super) fn entry_mut(&mut self, k: usize) -> &mut Entry {
         &mut self.entries[k]
@@ -484,9 +508,7 @@ impl EdgeArray {
     /// An enclosure of `av(i, j)` as `[x, y]` (the f64 filter's view; the
     /// turn must be in `(0, π)`, else `None`).
     pub fn av_enclose(&self, i: usize, j: usize) -> Option<[Interval; 2]> {
-        let (a, b) = (&self.entries[i], &self.entries[j]);
-        let f = |e: &Entry| [&e.nx, &e.ny, &e.c].map(Interval::of_int);
-        let ([anx, any, ac], [bnx, bny, bc]) = (f(a), f(b));
+        let ([anx, any, ac], [bnx, bny, bc]) = (self.ivs.0[i], self.ivs.0[j]);
         let w = anx * bny - any * bnx;
         if w.lo <= 0.0 {
             return None;
@@ -507,10 +529,7 @@ impl EdgeArray {
         }
         let i = s.pred(k)?;
         match self.av_is_real(i, k) {
-            Some(v) => {
-                let (x, y) = body.int_vertex(v);
-                Some([Interval::of_int(x), Interval::of_int(y)])
-            }
+            Some(v) => Some(body.int_vertex_enclosure(v)),
             None => self.av_enclose(i, k),
         }
     }

@@ -240,14 +240,18 @@ pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyI
     {
         return None;
     }
-    let r = t.as_rational()?;
-    let pos = |a: Att| world.position(a, r);
-    let pts = [pos(p[0])?, pos(p[1])?, pos(p[2])?];
-    if crate::geom::orient(&pts[0], &pts[1], &pts[2]) != crate::num::Sign::Zero {
+    // exact signs at `t` from the moving points' integer polynomials (no
+    // rational positions: no gcd)
+    use crate::motion::{dot_poly, orient_poly};
+    use crate::num::Sign;
+    t.as_rational()?;
+    let pts = p.map(|a| world.point(a));
+    if orient_poly(&pts[0], &pts[1], &pts[2]).sign_at(t) != Sign::Zero {
         return None;
     }
+    // (a − m)·(b − m) < 0
     let strictly_between = |m: usize, a: usize, b: usize| {
-        pts[a].sub(&pts[m]).dot(&pts[b].sub(&pts[m])).sign() == crate::num::Sign::Negative
+        dot_poly(&pts[m], &pts[a], &pts[b]).sign_at(t) == Sign::Negative
     };
     let m = (0..3).find(|&m| strictly_between(m, (m + 1) % 3, (m + 2) % 3))?;
     let (w, x, y) = (p[m], p[(m + 1) % 3], p[(m + 2) % 3]);
@@ -271,8 +275,7 @@ pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyI
     let (px, py) = (&pts[(m + 1) % 3], &pts[(m + 2) % 3]);
     // `w` alone on the line among its approximation's vertices
     for nb in [world.ccw(w), world.cw(w, 1)] {
-        let q = pos(nb)?;
-        if crate::geom::orient(px, py, &q) == crate::num::Sign::Zero {
+        if orient_poly(px, py, &world.point(nb)).sign_at(t) == Sign::Zero {
             return None;
         }
     }
@@ -283,16 +286,19 @@ pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyI
     // the real part of the edge: entry `x`'s base segment, moved to `t`
     let body = world.body(v);
     let k = x.v as usize;
-    let at = |i: usize| body.vertex_at(i, r);
-    let (s0, s1) = (
-        at(ap.array.base_vertex_of_entry_start(k)),
-        at(ap.array.base_vertex_of_entry_end(k)),
+    let (i0, i1) = (
+        ap.array.base_vertex_of_entry_start(k),
+        ap.array.base_vertex_of_entry_end(k),
     );
+    let (s0, s1) = (body.vertex(i0), body.vertex(i1));
     let wp = &pts[m];
-    let outside = |a: &crate::geom::Point, b: &crate::geom::Point| {
-        wp.sub(a).dot(&b.sub(a)).sign() == crate::num::Sign::Negative
+    // (w − a)·(b − a) < 0: w beyond a, away from b
+    let outside = |a: &crate::motion::LinearPoint, b: &crate::motion::LinearPoint| {
+        dot_poly(a, wp, b).sign_at(t) == Sign::Negative
     };
-    if outside(&s0, &s1) || outside(&s1, &s0) || (s0 == s1 && *wp != s0) {
+    // a degenerate segment (one base vertex): w must be that vertex
+    let off_point = || dot_poly(&s0, wp, wp).sign_at(t) != Sign::Zero;
+    if outside(&s0, &s1) || outside(&s1, &s0) || (i0 == i1 && off_point()) {
         return apart;
     }
     None
