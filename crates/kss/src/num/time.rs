@@ -69,6 +69,18 @@ impl<S: ExactTime> Force for Once<S> {
                 self.iv.lo,
                 self.iv.hi
             );
+            // in debug builds (the test suite), containment checked exactly
+            #[cfg(debug_assertions)]
+            for (end, below) in [(self.iv.lo, true), (self.iv.hi, false)] {
+                if let Some(e) = Time::from_f64(end) {
+                    assert!(
+                        if below { e <= t } else { t <= e },
+                        "a deferred time's exact value {t:?} is outside its enclosure [{:e}, {:e}]",
+                        self.iv.lo,
+                        self.iv.hi
+                    );
+                }
+            }
             t
         })
     }

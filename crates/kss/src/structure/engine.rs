@@ -435,6 +435,7 @@ impl Kinetic {
         // have just after `now` would swallow the failure when two fail at
         // one instant and the operation for the first touches the second
         let mut pending: BTreeMap<[Att; 3], Cert> = BTreeMap::new();
+        let mut kept: Vec<[Att; 3]> = Vec::new();
         for p in &old {
             let Some(s) = self.certs.get_mut(p) else {
                 continue;
@@ -447,6 +448,7 @@ impl Kinetic {
                     // the same certificate again, not due at this instant:
                     // it keeps its place in the queue (its failure time
                     // depends only on its points) and is owned again below
+                    kept.push(*p);
                     continue;
                 }
                 if self.handling != Some(*p) && due && is_failing(world, &cert, now) {
@@ -470,10 +472,18 @@ impl Kinetic {
                 }
                 Some(s) if s.cert.sign != c.sign => {
                     if self.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
-                        return Err(format!(
+                        let e = format!(
                             "contradictory certificates on {:?} ({:?} and {:?})",
                             c.p, s.owners, o
-                        ));
+                        );
+                        // no owner list names the certificates kept above
+                        // any more: they go, as they did before keeping
+                        for p in &kept {
+                            if self.certs.get(p).is_some_and(|s| s.owners.is_empty()) {
+                                self.drop_cert(p);
+                            }
+                        }
+                        return Err(e);
                     }
                     // the kept certificate fails now and will be handled
                     if !s.owners.contains(&o) {
