@@ -358,6 +358,19 @@ fn has_separating_edge(a: &[Point], b: &[Point]) -> bool {
     })
 }
 
+/// The sign of `orient(u, v, w)` from enclosures of the three positions, if
+/// the enclosures decide it and it is not zero (the f64 filter of the
+/// orientation tests; callers that enclose each point once use it for
+/// several turns).
+pub fn orient_enclosed(
+    [ux, uy]: [Interval; 2],
+    [vx, vy]: [Interval; 2],
+    [wx, wy]: [Interval; 2],
+) -> Option<Sign> {
+    let d = (vx - ux) * (wy - uy) - (vy - uy) * (wx - ux);
+    d.sign().filter(|&s| s != Sign::Zero)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

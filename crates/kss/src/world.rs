@@ -668,19 +668,18 @@ impl World {
         let inside = |on_b: bool, p: (bool, usize)| {
             let (body, e) = (body_of(on_b), if on_b { &eb } else { &ea });
             let n = e.len();
-            let [px, py] = enc_of(p);
-            (0..n).all(|i| {
-                let ([ux, uy], [vx, vy]) = (e[i], e[(i + 1) % n]);
-                match ((vx - ux) * (py - uy) - (vy - uy) * (px - ux)).sign() {
-                    Some(s) if s != Sign::Zero => s == Sign::Positive,
-                    _ => {
+            let ep = enc_of(p);
+            (0..n).all(
+                |i| match crate::geom::orient_enclosed(e[i], e[(i + 1) % n], ep) {
+                    Some(s) => s == Sign::Positive,
+                    None => {
                         let q = body_of(p.0).vertex(p.1);
                         crate::motion::orient_poly(&body.vertex(i), &body.vertex((i + 1) % n), &q)
                             .sign_at(&tt)
                             != Sign::Negative
                     }
-                }
-            })
+                },
+            )
         };
         let on_both: Vec<[f64; 2]> = candidates
             .iter()

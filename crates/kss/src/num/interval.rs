@@ -73,13 +73,19 @@ impl Interval {
         }
     }
 
+    /// Whether this is the point `[0, 0]` (an exact zero: arithmetic never
+    /// rounds a non-zero result to it).
+    pub fn is_zero(&self) -> bool {
+        self.lo == 0.0 && self.hi == 0.0
+    }
+
     /// The sign of every point of the interval, if they all agree.
     pub fn sign(&self) -> Option<Sign> {
         if self.lo > 0.0 {
             Some(Sign::Positive)
         } else if self.hi < 0.0 {
             Some(Sign::Negative)
-        } else if self.lo == 0.0 && self.hi == 0.0 {
+        } else if self.is_zero() {
             Some(Sign::Zero)
         } else {
             None
@@ -160,10 +166,10 @@ impl std::ops::Add for Interval {
     #[inline(always)]
     fn add(self, other: Interval) -> Interval {
         // adding an exact zero is exact
-        if other.lo == 0.0 && other.hi == 0.0 {
+        if other.is_zero() {
             return self;
         }
-        if self.lo == 0.0 && self.hi == 0.0 {
+        if self.is_zero() {
             return other;
         }
         Interval {
@@ -179,10 +185,10 @@ impl std::ops::Sub for Interval {
     #[inline(always)]
     fn sub(self, other: Interval) -> Interval {
         // subtracting an exact zero, or from one, is exact
-        if other.lo == 0.0 && other.hi == 0.0 {
+        if other.is_zero() {
             return self;
         }
-        if self.lo == 0.0 && self.hi == 0.0 {
+        if self.is_zero() {
             return -other;
         }
         Interval {
@@ -198,7 +204,7 @@ impl std::ops::Mul for Interval {
     #[inline(always)]
     fn mul(self, other: Interval) -> Interval {
         let (a, b) = (self, other);
-        if (a.lo == 0.0 && a.hi == 0.0) || (b.lo == 0.0 && b.hi == 0.0) {
+        if a.is_zero() || b.is_zero() {
             return Interval::point(0.0);
         }
         // the extreme products by the signs of the operands (the classic

@@ -261,7 +261,6 @@ pub fn filtered_failure(c: [Interval; 3], now: Interval) -> Filtered {
 /// [`filtered_failure`] for a function already known to be positive just
 /// after `now`: only where its failure root lies.
 fn filtered_root(c: [Interval; 3], now: Interval) -> Filtered {
-    let zero = |x: Interval| x.lo == 0.0 && x.hi == 0.0;
     let [c0, c1, c2] = c;
     if !now.is_finite() {
         return Filtered::Unsure;
@@ -278,8 +277,8 @@ fn filtered_root(c: [Interval; 3], now: Interval) -> Filtered {
             Filtered::Unsure
         }
     };
-    if zero(c2) {
-        if zero(c1) || c1.lo > 0.0 {
+    if c2.is_zero() {
+        if c1.is_zero() || c1.lo > 0.0 {
             return Filtered::Never;
         }
         if c1.hi < 0.0 {
@@ -303,9 +302,7 @@ fn filtered_root(c: [Interval; 3], now: Interval) -> Filtered {
     // cancellation
     let s = d.sqrt();
     let two = Interval::point(2.0);
-    let r = if c1.lo >= 0.0 {
-        -(c1 + s) / (two * c2)
-    } else if c1.hi <= 0.0 {
+    let r = if c1.lo < 0.0 && c1.hi <= 0.0 {
         (two * c0) / (s - c1)
     } else {
         -(c1 + s) / (two * c2)

@@ -12,7 +12,7 @@ use super::events::{classify, nearby_contact, settled_between, Failure};
 use super::geo::Geo;
 use super::ops::{Outcome, Owner};
 use super::{Att, CorrId, Kss, Obj, TriId};
-use crate::motion::{orient_poly, FramePoint};
+use crate::motion::{orient_poly, FramePoint, LinearPoint};
 use crate::num::{filtered_failure, ExactTime, Filtered, Interval, Poly, Rational, Sign, Time};
 use crate::sim::{EventKey, EventQueue};
 use crate::world::BodyId;
@@ -109,14 +109,19 @@ pub fn cert_poly(world: &Geo, c: &Cert) -> Poly {
         Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("certificates have finite points"),
     };
-    if c.kind == super::certs::CertKind::Order {
-        return crate::motion::dot_poly(&lp(c.p[1]), &lp(c.p[0]), &lp(c.p[2])).neg();
+    cert_poly_of(c.kind, c.sign, &c.p.map(lp))
+}
+
+/// [`cert_poly`] from the certificate's three moving points.
+fn cert_poly_of(kind: super::certs::CertKind, sign: Sign, p: &[LinearPoint; 3]) -> Poly {
+    if kind == super::certs::CertKind::Order {
+        return crate::motion::dot_poly(&p[1], &p[0], &p[2]).neg();
     }
-    let p = orient_poly(&lp(c.p[0]), &lp(c.p[1]), &lp(c.p[2]));
-    if c.sign == Sign::Negative {
-        p.neg()
+    let q = orient_poly(&p[0], &p[1], &p[2]);
+    if sign == Sign::Negative {
+        q.neg()
     } else {
-        p
+        q
     }
 }
 
@@ -177,19 +182,13 @@ struct DeferredFailure {
 
 impl ExactTime for DeferredFailure {
     fn exact(&self) -> Time {
-        let [a, b, c] = &self.p;
-        let poly = if self.kind == super::certs::CertKind::Order {
-            crate::motion::dot_poly(&b.linear(), &a.linear(), &c.linear()).neg()
-        } else {
-            let p = orient_poly(&a.linear(), &b.linear(), &c.linear());
-            if self.sign == Sign::Negative {
-                p.neg()
-            } else {
-                p
-            }
-        };
-        poly.failure_root()
-            .expect("the filter proved that the certificate fails")
+        cert_poly_of(
+            self.kind,
+            self.sign,
+            &self.p.each_ref().map(FramePoint::linear),
+        )
+        .failure_root()
+        .expect("the filter proved that the certificate fails")
     }
 }
 

@@ -302,7 +302,7 @@ impl<'a> Geo<'a> {
     /// decides it and it is not zero (then it is also the sign just before
     /// and just after that time); `None` otherwise.
     pub fn orient_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
-        orient_enclosed(
+        crate::geom::orient_enclosed(
             self.enclose(u, t)?,
             self.enclose(v, t)?,
             self.enclose(w, t)?,
@@ -336,16 +336,4 @@ impl<'a> Geo<'a> {
             }
         }
     }
-}
-
-/// The sign of `orient(u, v, w)` from enclosures of the three positions (as
-/// [`Geo::orient_filtered`], for callers that enclose each point once for
-/// several turns).
-pub fn orient_enclosed(
-    [ux, uy]: [Interval; 2],
-    [vx, vy]: [Interval; 2],
-    [wx, wy]: [Interval; 2],
-) -> Option<Sign> {
-    let d = (vx - ux) * (wy - uy) - (vy - uy) * (wx - ux);
-    d.sign().filter(|&s| s != Sign::Zero)
 }

@@ -136,7 +136,7 @@ fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> b
     let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| ivs[i]);
     let tn = |a: Att, b: Att, c: Att| {
         if let (Some(ea), Some(eb), Some(ec)) = (at(a), at(b), at(c)) {
-            if let Some(s) = super::geo::orient_enclosed(ea, eb, ec) {
+            if let Some(s) = crate::geom::orient_enclosed(ea, eb, ec) {
                 return s;
             }
         }
