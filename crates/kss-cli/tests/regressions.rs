@@ -15,7 +15,9 @@
 //! that put a partition triangle's side across a polygon; a middle bridge
 //! along flush edges of both its bodies, which hid a contact on that line,
 //! the two scenarios once kept as known failures; settled contacts repaired
-//! by a local retriangulation). Each must give byte-identical
+//! by a local retriangulation; a corridor that another corridor's operation
+//! decomposed again, by the motions from before a collision response that
+//! then changed them). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};

@@ -593,6 +593,13 @@ impl Kinetic {
         for p in &touched {
             self.reschedule(world, p, now);
         }
+        // A corridor with a junction straight at `now` was shaped by its
+        // turns just after `now` under the old motions (an operation of this
+        // instant may have decomposed it again, even while its own failure
+        // waited for this response). Under the new motions that shape may be
+        // wrong, and the certificates, which keep the signs the structure
+        // read, would not notice: such a corridor is normalized again.
+        let reshape = self.straight_now(world, &touched, now);
         for p in touched {
             let Some(s) = self.certs.get(&p) else {
                 continue;
@@ -641,6 +648,28 @@ impl Kinetic {
                 self.handling = None;
             }
         }
+        for k in reshape {
+            let mid = self.kss.corrs[k.0 as usize].mid;
+            // (a corridor with a failure still due at this instant is left to
+            // that event's operation)
+            let due = self.owned_corr[k.0 as usize].iter().any(|p| {
+                self.certs
+                    .get(p)
+                    .is_some_and(|s| self.due_now(p, s.key, now))
+            });
+            if due || self.kss.faces_valid(world, k, mid, now) {
+                continue;
+            }
+            trace!(
+                "corridor {k:?} reshaped after the motion change at {}",
+                now.to_f64()
+            );
+            // (where no decomposition holds, failures of this instant are
+            // still to come and the corridor stays as it was)
+            if self.kss.normalize(world, k, now, None).is_ok() {
+                self.refresh(world, Owner::Corr(k), now)?;
+            }
+        }
         if let Some(kind) = self.broken.take() {
             let (around, triples) = self.broken_around.take().unwrap_or_default();
             if kind == "refine_rebuild" && self.repair_refined(world, &around, &triples, now) {
@@ -652,6 +681,37 @@ impl Kinetic {
             }
         }
         Ok(())
+    }
+
+    /// The corridors between two bodies that own one of the turn
+    /// certificates `ps` whose turn is zero at `now` (but not for ever).
+    fn straight_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
+        let mut out = BTreeSet::new();
+        for p in ps {
+            let Some(s) = self.certs.get(p) else {
+                continue;
+            };
+            if s.cert.kind == super::certs::CertKind::Order
+                || world
+                    .orient_filtered(p[0], p[1], p[2], now.interval())
+                    .is_some()
+            {
+                continue;
+            }
+            let lp = |a: Att| world.point(a);
+            let turn = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2]));
+            if turn.is_zero() || turn.sign_at(now) != Sign::Zero {
+                continue;
+            }
+            for o in &s.owners {
+                if let Owner::Corr(k) = *o {
+                    if self.kss.corrs[k.0 as usize].b != Obj::Omega {
+                        out.insert(k);
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// The certificates on body `b` that name one of `ids`.
@@ -1281,6 +1341,7 @@ impl Kinetic {
         kind: &'static str,
     ) -> Result<(), String> {
         let mut hi = self.search_start(now)?;
+        trace!("rebuild_after {now}: search from {hi:?}");
         for _ in 0..200 {
             let at = now.rational_between(&hi);
             let at_t = Time::from_rational(at.clone());
