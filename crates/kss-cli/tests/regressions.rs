@@ -17,7 +17,10 @@
 //! the two scenarios once kept as known failures; settled contacts repaired
 //! by a local retriangulation; a corridor that another corridor's operation
 //! decomposed again, by the motions from before a collision response that
-//! then changed them). Each must give byte-identical
+//! then changed them; two points of the hull that meet at a collision
+//! response which takes them off their common line, where the order of the
+//! three points dropped the wrong one from the hull). Each must give
+//! byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};

@@ -621,7 +621,16 @@ impl Kinetic {
                 // may now have the wrong class for its face: the corridor is
                 // normalized, and if no decomposition holds just after `now`
                 // the junction keeps its old class and fails at once.
-                if zero || (self.due_now(&p, s.key, now) && is_failing(world, &s.cert, now)) {
+                // On the hull, where two of its points meet and the new
+                // motions take them off their line, the turns decide: read
+                // by the order, the meeting could drop the wrong one of the
+                // two points from the hull.
+                let on_hull = owners.iter().all(
+                    |o| matches!(*o, Owner::Corr(k) if self.kss.corrs[k.0 as usize].b == Obj::Omega),
+                );
+                if zero
+                    || (!on_hull && self.due_now(&p, s.key, now) && is_failing(world, &s.cert, now))
+                {
                     continue;
                 }
                 trace!("order certificate {p:?} becomes a turn at {}", now.to_f64());
