@@ -19,8 +19,11 @@
 //! decomposed again, by the motions from before a collision response that
 //! then changed them; two points of the hull that meet at a collision
 //! response which takes them off their common line, where the order of the
-//! three points dropped the wrong one from the hull). Each must give
-//! byte-identical
+//! three points dropped the wrong one from the hull; with the hierarchy, an
+//! approximation edge left sliding along a real vertex after two polygons
+//! touched without a collision, and two scenarios where the pops that
+//! follow such a touch came too early: before the instant's last event, or
+//! after the reference had taken over). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};

@@ -437,6 +437,11 @@ struct KineticEngine {
     /// The most pair times the reference held while it stood in (part of
     /// `certificates_max`).
     stand_in_max: u64,
+    /// Pairs that touched without a collision at this instant (hierarchy
+    /// only): once every contact of the instant is known, the approximation
+    /// points that would slide along the other body are popped, as after a
+    /// collision response.
+    settled: Option<(Time, Vec<(BodyId, BodyId)>)>,
 }
 
 /// The reference engine standing in for the kinetic structure while two
@@ -548,6 +553,7 @@ impl KineticEngine {
             last_update: Rational::zero(),
             stand_in: None,
             stand_in_max: 0,
+            settled: None,
         })
     }
 
@@ -708,6 +714,29 @@ impl<'a> LocalPops<'a> {
 }
 
 impl KineticEngine {
+    /// Pop the approximations of the pairs that touched without a collision
+    /// at the pending instant (`settled`), once nothing of that instant is
+    /// still queued (with `idle`, at once: nothing is left below the
+    /// limit). Returns whether it did.
+    fn unslide_settled(&mut self, world: &World, idle: bool) -> Result<bool, RunError> {
+        if self.stand_in.is_some() {
+            self.settled = None;
+        }
+        let due = match &self.settled {
+            None => return Ok(false),
+            Some((t, _)) => !idle && self.k.next_time() == Some(t),
+        };
+        if due {
+            return Ok(false);
+        }
+        let (t, pairs) = self.settled.take().expect("checked");
+        self.refine_responded(world, &t, &pairs)?;
+        if self.audit {
+            self.audit_now(world, &t)?;
+        }
+        Ok(true)
+    }
+
     /// After a collision response (hierarchy only): the pairs that collided
     /// may now slide along each other, and an approximation edge may not
     /// slide along a vertex of the other body, nor an approximation vertex
@@ -819,6 +848,9 @@ impl KineticEngine {
             at.to_f64(),
             resting.len()
         );
+        // (the pops waiting for this instant are the fresh structure's
+        // business when the reference hands back)
+        self.settled = None;
         self.stand_in = Some(StandIn {
             brute: BruteEngine(brute),
             resting: resting.into_iter().collect(),
@@ -1064,10 +1096,13 @@ impl KineticEngine {
                     self.refine(world, &rt, &refines, !contacts.is_empty())?;
                     refines.clear();
                     refine_at = None;
-                    if self.audit && contacts.is_empty() {
+                    if self.audit && contacts.is_empty() && self.settled.is_none() {
                         self.audit_now(world, &rt)?;
                     }
                 }
+            }
+            if contacts.is_empty() && refine_at.is_none() && self.unslide_settled(world, false)? {
+                continue;
             }
             if let Some(a) = &at {
                 if self.k.next_time() != Some(a) {
@@ -1101,12 +1136,30 @@ impl KineticEngine {
                 world,
                 shapes: &self.shapes,
             };
-            match self
+            let stepped = self
                 .k
                 .step(&geo, limit, &contacts, &collides)
-                .map_err(RunError::Internal)?
-            {
+                .map_err(RunError::Internal)?;
+            let touched = self.k.take_settled();
+            if let (false, Step::Internal(t) | Step::Deferred(t)) = (touched.is_empty(), &stepped) {
+                if self.hierarchical {
+                    let pairs = match self.settled.take() {
+                        Some((u, mut v)) if u == *t => {
+                            for p in touched {
+                                if !v.contains(&p) {
+                                    v.push(p);
+                                }
+                            }
+                            v
+                        }
+                        _ => touched,
+                    };
+                    self.settled = Some((t.clone(), pairs));
+                }
+            }
+            match stepped {
                 Step::Idle if refine_at.is_some() => {} // refined at the loop's top
+                Step::Idle if contacts.is_empty() && self.unslide_settled(world, true)? => {}
                 Step::Idle => break,
                 Step::Contact(t, pairs) => {
                     for (a, b) in pairs {
@@ -1159,7 +1212,7 @@ impl KineticEngine {
                             .coarsen(world, &mut self.shapes, &t)
                             .map_err(RunError::Internal)?;
                     }
-                    if self.audit && contacts.is_empty() {
+                    if self.audit && contacts.is_empty() && self.settled.is_none() {
                         self.audit_now(world, &t)?;
                     }
                 }
@@ -1244,7 +1297,13 @@ impl KineticEngine {
             self.k
                 .motion_changed(&geo, now, bodies)
                 .map_err(RunError::Internal)?;
-            self.refine_responded(world, now, reported)?;
+            let mut pairs = reported.to_vec();
+            if let Some((t, settled)) = self.settled.take() {
+                if t == *now {
+                    pairs.extend(settled.into_iter().filter(|p| !reported.contains(p)));
+                }
+            }
+            self.refine_responded(world, now, &pairs)?;
         }
         Ok(())
     }

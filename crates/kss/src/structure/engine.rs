@@ -78,6 +78,12 @@ pub struct Kinetic {
     /// The instant of the latest [`Kinetic::rebuild_after`] that found no
     /// structure (polygons may rest in contact there; the driver decides).
     pub unbuildable: Option<Time>,
+    /// Pairs of bodies that touched at the current instant without a
+    /// collision (they slid along each other, or a response already
+    /// separates them): with the hierarchy, the driver then pops the
+    /// approximation points that would slide along the other body
+    /// ([`Kinetic::take_settled`]).
+    settled: Vec<(BodyId, BodyId)>,
     /// The corridors the last operation touched (where coarsening is tried).
     last_touched: Vec<CorrId>,
     /// Rotates the coarsening candidates.
@@ -1149,6 +1155,12 @@ impl Kinetic {
         }
     }
 
+    /// The pairs that touched without a collision since the last call (see
+    /// the field `settled`).
+    pub fn take_settled(&mut self) -> Vec<(BodyId, BodyId)> {
+        std::mem::take(&mut self.settled)
+    }
+
     /// Whether a failure that could be a contact is still queued at `t`
     /// (such failures are popped first at an instant).
     pub fn contact_candidate_due(&self, t: &Time) -> bool {
@@ -1450,6 +1462,15 @@ impl Kinetic {
             // other, or the collision response at this instant already
             // separates them): a structural event at the touching vertex
             // if there is one
+            for pair in [Some((a, b)), third.map(|c| (a, c)), third.map(|c| (b, c))]
+                .into_iter()
+                .flatten()
+            {
+                let pair = (pair.0.min(pair.1), pair.0.max(pair.1));
+                if !self.settled.contains(&pair) {
+                    self.settled.push(pair);
+                }
+            }
             match settled_between(world, &cert, &t) {
                 Some(f) => failure = f,
                 None => {

@@ -340,6 +340,19 @@ pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), S
             pu.sub(&pw).dot(&pv.sub(&pw)).sign() != Sign::Positive
         };
         if involved(&geo, a, b, &sign, Some(&on_segment)).is_some() {
+            #[cfg(feature = "trace")]
+            for id in [a, b] {
+                let pts: Vec<(u32, bool, [f64; 2])> = geo
+                    .ids(id)
+                    .into_iter()
+                    .map(|v| {
+                        let x = Att::vertex(id, v);
+                        let q = geo.position(x, t).expect("finite");
+                        (v, geo.is_real(x), [q.x.to_f64(), q.y.to_f64()])
+                    })
+                    .collect();
+                eprintln!("approximation of {id:?} at {}: {pts:?}", t.to_f64());
+            }
             return Err(format!(
                 "the approximations of {} and {} overlap at t = {t}",
                 world.body(a).id,
