@@ -374,7 +374,8 @@ pub struct BenchArgs {
     pub build_time: bool,
     /// Run nothing: write the report (bench.md, bench.json, plots) into
     /// --out from the bench.json files of earlier runs, merged (a later
-    /// file's cell of the same workload and method replaces an earlier one).
+    /// file's cell of the same workload and method replaces an earlier one);
+    /// with --workload, only those workloads.
     #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = ["list", "cell"])]
     pub report_from: Vec<PathBuf>,
     /// Print the workloads and methods that would run, and exit.

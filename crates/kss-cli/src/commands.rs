@@ -711,8 +711,21 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
         return Ok(());
     }
     if !args.report_from.is_empty() {
-        let (run, machine) = kss_bench::report::read_runs(&args.report_from)
+        let (mut run, machine) = kss_bench::report::read_runs(&args.report_from)
             .map_err(|e| CliError::new(ErrorKind::Io, format!("--report-from: {e}")))?;
+        if !args.workload.is_empty() {
+            // only the workloads named (full names or families)
+            let keep: Vec<String> = bench_workloads(args)?.iter().map(|w| w.name()).collect();
+            run.workloads.retain(|w| keep.contains(w));
+            run.cells.retain(|c| keep.contains(&c.workload));
+            run.references.retain(|w, _| keep.contains(w));
+            if run.workloads.is_empty() {
+                return Err(CliError::new(
+                    ErrorKind::Usage,
+                    "--report-from: none of the --workload names is in these runs",
+                ));
+            }
+        }
         return write_report(&args.out, &run, &machine);
     }
     let mut config = Config::new(args.quick, &args.out);

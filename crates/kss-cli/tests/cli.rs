@@ -1088,3 +1088,56 @@ fn render_hierarchical_draws_approximations_and_animation_frames() {
     assert_eq!(o.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn bench_report_from_keeps_only_the_workloads_named() {
+    // two tiny workloads with the reference alone, then a report of one
+    let dir = temp_dir();
+    let run = dir.join("run");
+    let o = run_kss(
+        &[
+            "bench",
+            "--quick",
+            "--methods",
+            "brute",
+            "--workload",
+            "flypast-n16-r1e1",
+            "flypast-n16-r1e6",
+            "--out",
+            run.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = dir.join("report");
+    let o = run_kss(
+        &[
+            "bench",
+            "--report-from",
+            run.join("bench.json").to_str().unwrap(),
+            "--workload",
+            "flypast-n16-r1e6",
+            "--out",
+            report.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let md = std::fs::read_to_string(report.join("bench.md")).unwrap();
+    assert!(md.contains("flypast-n16-r1e6"), "{md}");
+    assert!(!md.contains("flypast-n16-r1e1"), "{md}");
+    // a name that the runs do not hold is an error, not an empty report
+    let o = run_kss(
+        &[
+            "bench",
+            "--report-from",
+            run.join("bench.json").to_str().unwrap(),
+            "--workload",
+            "gas-k30-n8-c100",
+            "--out",
+            dir.join("none").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
