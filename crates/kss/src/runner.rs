@@ -1141,7 +1141,11 @@ impl KineticEngine {
                 .step(&geo, limit, &contacts, &collides)
                 .map_err(RunError::Internal)?;
             let touched = self.k.take_settled();
-            if let (false, Step::Internal(t) | Step::Deferred(t)) = (touched.is_empty(), &stepped) {
+            if let (
+                false,
+                Step::Internal(t) | Step::Deferred(t) | Step::Contact(t, _) | Step::Refine(t, _),
+            ) = (touched.is_empty(), &stepped)
+            {
                 if self.hierarchical {
                     let pairs = match self.settled.take() {
                         Some((u, mut v)) if u == *t => {
@@ -1300,7 +1304,12 @@ impl KineticEngine {
             let mut pairs = reported.to_vec();
             if let Some((t, settled)) = self.settled.take() {
                 if t == *now {
-                    pairs.extend(settled.into_iter().filter(|p| !reported.contains(p)));
+                    // (`reported` pairs come in either order)
+                    let known =
+                        |p: &(BodyId, BodyId)| pairs.contains(p) || pairs.contains(&(p.1, p.0));
+                    let fresh: Vec<(BodyId, BodyId)> =
+                        settled.into_iter().filter(|p| !known(p)).collect();
+                    pairs.extend(fresh);
                 }
             }
             self.refine_responded(world, now, &pairs)?;

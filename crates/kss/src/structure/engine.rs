@@ -402,6 +402,8 @@ impl Kinetic {
     /// Become `fresh`, keeping the event counts and the largest queue size.
     fn replace_with(&mut self, mut fresh: Kinetic) {
         fresh.counts = std::mem::take(&mut self.counts);
+        // the touches of this instant still need their pops afterwards
+        fresh.settled = std::mem::take(&mut self.settled);
         fresh.max_active = fresh.max_active.max(self.max_active);
         *self = fresh;
     }
@@ -663,6 +665,12 @@ impl Kinetic {
                 self.handling = None;
             }
         }
+        // (not when the structure is about to be rebuilt anyway)
+        let reshape = if self.broken.is_some() {
+            BTreeSet::new()
+        } else {
+            reshape
+        };
         for k in reshape {
             let mid = self.kss.corrs[k.0 as usize].mid;
             // (a corridor with a failure still due at this instant is left to
@@ -680,9 +688,13 @@ impl Kinetic {
                 now.to_f64()
             );
             // (where no decomposition holds, failures of this instant are
-            // still to come and the corridor stays as it was)
+            // still to come and the corridor stays as it was, its held
+            // junctions included: `normalize` restores only the bridge)
+            let held = self.kss.held.get(&k).cloned();
             if self.kss.normalize(world, k, now, None).is_ok() {
                 self.refresh(world, Owner::Corr(k), now)?;
+            } else if let Some(h) = held {
+                self.kss.held.insert(k, h);
             }
         }
         if let Some(kind) = self.broken.take() {
