@@ -1109,35 +1109,28 @@ fn bench_report_from_keeps_only_the_workloads_named() {
         None,
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // `kss bench --report-from` of that run, keeping `workload`, into `out`
+    let report_of = |workload: &str, out: &std::path::Path| {
+        run_kss(
+            &[
+                "bench",
+                "--report-from",
+                run.join("bench.json").to_str().unwrap(),
+                "--workload",
+                workload,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            None,
+        )
+    };
     let report = dir.join("report");
-    let o = run_kss(
-        &[
-            "bench",
-            "--report-from",
-            run.join("bench.json").to_str().unwrap(),
-            "--workload",
-            "flypast-n16-r1e6",
-            "--out",
-            report.to_str().unwrap(),
-        ],
-        None,
-    );
+    let o = report_of("flypast-n16-r1e6", &report);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let md = std::fs::read_to_string(report.join("bench.md")).unwrap();
     assert!(md.contains("flypast-n16-r1e6"), "{md}");
     assert!(!md.contains("flypast-n16-r1e1"), "{md}");
     // a name that the runs do not hold is an error, not an empty report
-    let o = run_kss(
-        &[
-            "bench",
-            "--report-from",
-            run.join("bench.json").to_str().unwrap(),
-            "--workload",
-            "gas-k30-n8-c100",
-            "--out",
-            dir.join("none").to_str().unwrap(),
-        ],
-        None,
-    );
+    let o = report_of("gas-k30-n8-c100", &dir.join("none"));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }

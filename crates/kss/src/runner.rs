@@ -1147,17 +1147,11 @@ impl KineticEngine {
             ) = (touched.is_empty(), &stepped)
             {
                 if self.hierarchical {
-                    let pairs = match self.settled.take() {
-                        Some((u, mut v)) if u == *t => {
-                            for p in touched {
-                                if !v.contains(&p) {
-                                    v.push(p);
-                                }
-                            }
-                            v
-                        }
-                        _ => touched,
+                    let mut pairs = match self.settled.take() {
+                        Some((u, v)) if u == *t => v,
+                        _ => Vec::new(),
                     };
+                    add_pairs(&mut pairs, touched);
                     self.settled = Some((t.clone(), pairs));
                 }
             }
@@ -1304,17 +1298,23 @@ impl KineticEngine {
             let mut pairs = reported.to_vec();
             if let Some((t, settled)) = self.settled.take() {
                 if t == *now {
-                    // (`reported` pairs come in either order)
-                    let known =
-                        |p: &(BodyId, BodyId)| pairs.contains(p) || pairs.contains(&(p.1, p.0));
-                    let fresh: Vec<(BodyId, BodyId)> =
-                        settled.into_iter().filter(|p| !known(p)).collect();
-                    pairs.extend(fresh);
+                    add_pairs(&mut pairs, settled);
                 }
             }
             self.refine_responded(world, now, &pairs)?;
         }
         Ok(())
+    }
+}
+
+/// Append to `pairs` those of `new` that it does not hold yet, in either
+/// order (collision pairs come in the driver's order, touches as
+/// `(min, max)`).
+fn add_pairs(pairs: &mut Vec<(BodyId, BodyId)>, new: Vec<(BodyId, BodyId)>) {
+    for p in new {
+        if !pairs.contains(&p) && !pairs.contains(&(p.1, p.0)) {
+            pairs.push(p);
+        }
     }
 }
 
