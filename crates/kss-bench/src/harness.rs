@@ -141,8 +141,14 @@ pub struct BenchRun {
     pub references: HashMap<String, String>,
     /// Every cell.
     pub cells: Vec<CellResult>,
-    /// Wall time of the whole run, seconds.
+    /// Wall time of the whole run, seconds (over every process, when it
+    /// was resumed).
     pub total_seconds: f64,
+    /// How many times the run was resumed after an interruption
+    /// ([`Config::resume`]); the workloads interrupted were run again from
+    /// their first cell.
+    #[serde(default)]
+    pub resumes: u32,
 }
 
 impl BenchRun {
@@ -172,6 +178,10 @@ pub struct Config {
     /// Also measure the construction time of the library's structures
     /// ([`CellOutcome::build_seconds`]).
     pub build_time: bool,
+    /// An interrupted run to go on with (its checkpoint,
+    /// [`Progress::WorkloadDone`]): the workloads it finished with every
+    /// method are taken from it as they are, the others run.
+    pub resume: Option<BenchRun>,
 }
 
 impl Config {
@@ -190,6 +200,7 @@ impl Config {
             methods: Method::defaults(),
             events_dir: out.join("events"),
             build_time: false,
+            resume: None,
         }
     }
 }
@@ -227,6 +238,15 @@ pub enum Progress<'a> {
     },
     /// A cell ended.
     CellDone(&'a CellResult),
+    /// A workload ended with every method: the run so far (every finished
+    /// workload's cells, and the wall time so far), a checkpoint from which
+    /// an interrupted run can be resumed.
+    WorkloadDone(&'a BenchRun),
+    /// A workload was taken from the run resumed, not run again.
+    Resumed {
+        /// Workload name.
+        workload: &'a str,
+    },
 }
 
 fn events_path(dir: &Path, workload: &str, method: &str) -> PathBuf {
@@ -447,6 +467,17 @@ fn run_child(
     }
 }
 
+/// The work a cell of `method` does on `workload`, by which its wall time
+/// is extrapolated to the next size of the series: the number of pairs for
+/// the all-pairs methods on many bodies, else the workload's size.
+fn cell_work(workload: &Workload, method: Method) -> f64 {
+    if workload.is_many_body() && matches!(method, Method::Brute | Method::ParryToi) {
+        workload.all_pairs_work()
+    } else {
+        workload.series().1
+    }
+}
+
 /// Runs the benchmark: every method on every workload.
 pub fn run(
     config: &Config,
@@ -469,7 +500,13 @@ pub fn run(
         references: HashMap::new(),
         cells: Vec::new(),
         total_seconds: 0.0,
+        resumes: 0,
     };
+    let earlier = config.resume.as_ref();
+    let earlier_seconds = earlier.map_or(0.0, |r| r.total_seconds);
+    if let Some(r) = earlier {
+        run.resumes = r.resumes + 1;
+    }
     // smaller sizes first within a series, so that budgets carry over
     let mut order: Vec<&Workload> = config.workloads.iter().collect();
     order.sort_by(|a, b| {
@@ -479,7 +516,37 @@ pub fn run(
     });
     for workload in order {
         let wname = workload.name();
-        let (series, size) = workload.series();
+        let series = workload.series().0;
+        // finished in the run resumed: taken as it is (its budgets carry
+        // over as if it had run here)
+        let done: Option<Vec<CellResult>> = earlier.and_then(|r| {
+            config
+                .methods
+                .iter()
+                .map(|m| r.cell(&wname, &m.name()).cloned())
+                .collect()
+        });
+        if let Some(cells) = done {
+            for (cell, method) in cells.iter().zip(&config.methods) {
+                let work = cell_work(workload, *method);
+                let key = (series.clone(), cell.method.clone());
+                match cell.outcome.status {
+                    Status::Ok => {
+                        history.insert(key, (work, cell.outcome.wall_seconds, false));
+                    }
+                    Status::Budget | Status::SkippedBudget => {
+                        history.insert(key, (work, f64::INFINITY, true));
+                    }
+                    _ => {}
+                }
+            }
+            if let Some(r) = earlier.and_then(|r| r.references.get(&wname)) {
+                run.references.insert(wname.clone(), r.clone());
+            }
+            run.cells.extend(cells);
+            on_progress(Progress::Resumed { workload: &wname });
+            continue;
+        }
         let mut events: HashMap<String, Vec<Event>> = HashMap::new();
         let mut cells = Vec::new();
         for &method in &config.methods {
@@ -489,12 +556,7 @@ pub fn run(
                 method: &mname,
             });
             let key = (series.clone(), mname.clone());
-            let work =
-                if workload.is_many_body() && matches!(method, Method::Brute | Method::ParryToi) {
-                    workload.all_pairs_work()
-                } else {
-                    size
-                };
+            let work = cell_work(workload, method);
             let predicted_over = history.get(&key).is_some_and(|&(w0, wall, over)| {
                 over || wall * (work / w0) > 2.0 * config.budget_seconds
             });
@@ -567,7 +629,9 @@ pub fn run(
             run.references.insert(wname.clone(), r.clone());
         }
         run.cells.extend(cells);
+        run.total_seconds = earlier_seconds + started.elapsed().as_secs_f64();
+        on_progress(Progress::WorkloadDone(&run));
     }
-    run.total_seconds = started.elapsed().as_secs_f64();
+    run.total_seconds = earlier_seconds + started.elapsed().as_secs_f64();
     Ok(run)
 }

@@ -209,7 +209,7 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
     );
     let _ = writeln!(
         s,
-        "Mode: {}; time budget {} per cell; whole run {}. Every method ran on the same \
+        "Mode: {}; time budget {} per cell; whole run {}{}. Every method ran on the same \
          machine in this one run; each cell in its own process, one at a time.\n",
         if run.quick {
             "quick (tiny workloads; CI checks only that it runs)"
@@ -217,7 +217,16 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
             "full"
         },
         human_seconds(run.budget_seconds),
-        human_seconds(run.total_seconds)
+        human_seconds(run.total_seconds),
+        match run.resumes {
+            0 => String::new(),
+            n => format!(
+                " (interrupted and resumed {n} time{} with `--resume`, on the same binary: \
+                 the workloads finished before were kept, the one interrupted ran again \
+                 from its first cell)",
+                if n == 1 { "" } else { "s" }
+            ),
+        }
     );
     let methods: Vec<String> = run.methods.clone();
     let workloads: Vec<(String, Option<Workload>)> = run
@@ -1284,6 +1293,7 @@ pub fn merge(runs: Vec<BenchRun>) -> Option<BenchRun> {
         out.quick &= r.quick;
         out.budget_seconds = out.budget_seconds.max(r.budget_seconds);
         out.total_seconds += r.total_seconds;
+        out.resumes += r.resumes;
         for w in r.workloads {
             if !out.workloads.contains(&w) {
                 out.workloads.push(w);
@@ -1332,6 +1342,22 @@ pub fn read_runs(paths: &[PathBuf]) -> std::io::Result<(BenchRun, Machine)> {
             "no bench.json given",
         )),
     }
+}
+
+/// Writes the run so far to `path` in `bench.json`'s format (through a
+/// temporary file, so that an interruption leaves the previous checkpoint
+/// whole): what `kss bench --resume` reads.
+pub fn write_checkpoint(path: &Path, run: &BenchRun, m: &Machine) -> std::io::Result<()> {
+    if let Some(dir) = path.parent() {
+        fs::create_dir_all(dir)?;
+    }
+    let value = serde_json::json!({ "machine": m, "run": run });
+    let tmp = path.with_extension("json.tmp");
+    fs::write(
+        &tmp,
+        serde_json::to_string_pretty(&value).map_err(std::io::Error::other)? + "\n",
+    )?;
+    fs::rename(&tmp, path)
 }
 
 /// Writes `bench.md`, `bench.json` and the plots into `dir`; returns the

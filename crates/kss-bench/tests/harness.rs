@@ -37,6 +37,7 @@ fn tiny_run_writes_a_report() {
         Progress::Start { cells: c } => cells = c,
         Progress::CellStart { .. } => {}
         Progress::CellDone(_) => done += 1,
+        Progress::WorkloadDone(_) | Progress::Resumed { .. } => {}
     })
     .unwrap();
     assert_eq!(cells, 5 * config.methods.len());
@@ -188,6 +189,7 @@ fn merged_runs_keep_the_later_cell() {
         references: Default::default(),
         cells,
         total_seconds: 2.0,
+        resumes: 0,
     };
     let a = run(
         &["flypast-n16-r1e3", "flypast-n64-r1e3"],
@@ -218,4 +220,67 @@ fn merged_runs_keep_the_later_cell() {
     assert_eq!(events("flypast-n64-r1e8", "hierarchical"), 4);
     assert_eq!(m.total_seconds, 4.0);
     assert!(kss_bench::report::merge(Vec::new()).is_none());
+}
+
+#[test]
+fn an_interrupted_run_resumes_from_its_checkpoint() {
+    let out = std::env::temp_dir().join(format!("kss-bench-resume-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let mut config = Config::new(true, &out);
+    config.workloads = vec![
+        Workload::Flypast {
+            n: 16,
+            ratio: 1e3,
+            seed: 1,
+        },
+        Workload::Cluster { k: 16 },
+        Workload::Swarm { k: 20 },
+    ];
+    config.methods = vec![Method::Brute, Method::Sweep];
+    // the checkpoints of a whole run, one per workload, each the run so far
+    let mut checkpoints: Vec<harness::BenchRun> = Vec::new();
+    let whole = harness::run(&config, &Executor::InProcess, &mut |p| {
+        if let Progress::WorkloadDone(r) = p {
+            checkpoints.push(r.clone());
+        }
+    })
+    .unwrap();
+    assert_eq!(checkpoints.len(), 3);
+    for (i, c) in checkpoints.iter().enumerate() {
+        assert_eq!(c.cells.len(), 2 * (i + 1));
+        assert!(c.total_seconds <= whole.total_seconds);
+    }
+    // interrupted after its first workload: the resumed run keeps that one
+    // and runs the other two
+    let first = checkpoints[0].clone();
+    config.resume = Some(first.clone());
+    let (mut resumed, mut ran) = (Vec::new(), 0);
+    let again = harness::run(&config, &Executor::InProcess, &mut |p| match p {
+        Progress::Resumed { workload } => resumed.push(workload.to_string()),
+        Progress::CellDone(_) => ran += 1,
+        _ => {}
+    })
+    .unwrap();
+    assert_eq!(resumed, [first.cells[0].workload.clone()]);
+    assert_eq!(ran, 4);
+    assert_eq!(again.resumes, 1);
+    assert_eq!(again.cells.len(), 6);
+    assert!(again.total_seconds >= first.total_seconds);
+    // the kept cells are the checkpoint's, the others compare like the
+    // whole run's
+    for c in &first.cells {
+        let kept = again.cell(&c.workload, &c.method).unwrap();
+        assert_eq!(kept.outcome.wall_seconds, c.outcome.wall_seconds);
+    }
+    for c in &whole.cells {
+        let r = again.cell(&c.workload, &c.method).unwrap();
+        assert_eq!(r.outcome.counters.collisions, c.outcome.counters.collisions);
+        assert_eq!(
+            r.comparison.as_ref().map(|x| x.identical),
+            c.comparison.as_ref().map(|x| x.identical)
+        );
+    }
+    let md = kss_bench::report::markdown(&again, &kss_bench::report::machine());
+    assert!(md.contains("resumed 1 time "), "{md}");
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -378,6 +378,13 @@ pub struct BenchArgs {
     /// with --workload, only those workloads.
     #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = ["list", "cell"])]
     pub report_from: Vec<PathBuf>,
+    /// Go on with an interrupted run: FILE is the checkpoint it wrote
+    /// (`<out>/checkpoint.json`, rewritten after every workload). Its
+    /// finished workloads are kept as they are, the others run; the budget
+    /// and the methods must be the same. Use the same --out to keep its
+    /// events files.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["list", "cell"])]
+    pub resume: Option<PathBuf>,
     /// Print the workloads and methods that would run, and exit.
     #[arg(long)]
     pub list: bool,

@@ -742,6 +742,31 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
             .collect::<Result<_, _>>()
             .map_err(|e| CliError::new(ErrorKind::Usage, e))?;
     }
+    let machine = kss_bench::report::machine();
+    let mut machine_of_run = machine.clone();
+    if let Some(file) = &args.resume {
+        let (earlier, m) = kss_bench::report::read_runs(std::slice::from_ref(file))
+            .map_err(|e| CliError::new(ErrorKind::Io, format!("--resume: {e}")))?;
+        let methods: Vec<String> = config.methods.iter().map(|m| m.name()).collect();
+        if earlier.methods != methods
+            || earlier.budget_seconds != config.budget_seconds
+            || earlier.quick != config.quick
+        {
+            return Err(CliError::new(
+                ErrorKind::Usage,
+                format!(
+                    "--resume: {} was a run of {} at {} s per cell{}; give the same methods, budget and mode",
+                    file.display(),
+                    earlier.methods.join(","),
+                    earlier.budget_seconds,
+                    if earlier.quick { " (quick)" } else { "" }
+                ),
+            ));
+        }
+        // the report names the machine and the date of the run's start
+        machine_of_run = m;
+        config.resume = Some(earlier);
+    }
     if args.list {
         let mut text = String::new();
         for w in &config.workloads {
@@ -780,6 +805,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
             eprintln!("{line}");
         }
     };
+    let checkpoint = args.out.join("checkpoint.json");
     let mut done = 0usize;
     let mut total = 0usize;
     let mut on_progress = |p: Progress<'_>| match p {
@@ -796,6 +822,23 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
         }
         Progress::CellStart { workload, method } => {
             bar.set_message(format!("{workload} {method}"));
+        }
+        Progress::Resumed { workload } => {
+            let n = config.methods.len();
+            done += n;
+            bar.inc(n as u64);
+            say(format!(
+                "[{done}/{total}] {workload}: kept from the run resumed"
+            ));
+        }
+        Progress::WorkloadDone(run) => {
+            // a checkpoint to resume from if the run is interrupted
+            if let Err(e) = kss_bench::report::write_checkpoint(&checkpoint, run, &machine_of_run) {
+                say(format!(
+                    "kss bench: warning: cannot write {}: {e}",
+                    checkpoint.display()
+                ));
+            }
         }
         Progress::CellDone(cell) => {
             done += 1;
@@ -818,8 +861,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), CliError> {
     let run = harness::run(&config, &executor, &mut on_progress)
         .map_err(|e| CliError::new(ErrorKind::Io, format!("benchmark: {e}")))?;
     bar.finish_and_clear();
-    let machine = kss_bench::report::machine();
-    write_report(&args.out, &run, &machine)?;
+    write_report(&args.out, &run, &machine_of_run)?;
     eprintln!(
         "kss bench: {} cells in {:.1} s",
         run.cells.len(),

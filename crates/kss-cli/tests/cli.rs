@@ -1134,3 +1134,55 @@ fn bench_report_from_keeps_only_the_workloads_named() {
     let o = report_of("gas-k30-n8-c100", &dir.join("none"));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+#[test]
+fn bench_writes_a_checkpoint_and_resumes_from_it() {
+    let dir = temp_dir();
+    let out = dir.join("run");
+    let bench = |extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "--quick",
+            "--methods",
+            "brute,sweep",
+            "--workload",
+            "flypast-n16-r1e1",
+            "flypast-n16-r1e6",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        run_kss(&args, None)
+    };
+    let o = bench(&[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let checkpoint = out.join("checkpoint.json");
+    let text = std::fs::read_to_string(&checkpoint).unwrap();
+    assert!(text.contains("flypast-n16-r1e6"), "{text}");
+    // resumed from the finished run's checkpoint: nothing runs again
+    let o = bench(&["--resume", checkpoint.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert_eq!(err.matches("kept from the run resumed").count(), 2, "{err}");
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("resumed 1 time"), "{md}");
+    // a checkpoint of other methods is refused
+    let o = run_kss(
+        &[
+            "bench",
+            "--quick",
+            "--methods",
+            "brute",
+            "--workload",
+            "flypast-n16-r1e1",
+            "--resume",
+            checkpoint.to_str().unwrap(),
+            "--out",
+            dir.join("other").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("same methods"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(dir);
+}
