@@ -23,7 +23,9 @@
 //! approximation edge left sliding along a real vertex after two polygons
 //! touched without a collision, and two scenarios where the pops that
 //! follow such a touch came too early: before the instant's last event, or
-//! after the reference had taken over). Each must give byte-identical
+//! after the reference had taken over; settled contacts where a vertex lies
+//! on another polygon's edge at every instant tried, repaired locally from a
+//! shrunk copy of the region). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};
@@ -122,6 +124,13 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// the contact (`gen_small simultaneous 371`), and a settled contact found
 /// while another contact of the instant awaits its response, handled again
 /// after it (`gen_small simultaneous 852`). Each rebuilt globally before.
+/// Two more rebuilt until session 14, because at every instant tried a
+/// polygon's vertex lay on the other's edge (the doubles of the region put
+/// a vertex on a constraint), now triangulated from a slightly shrunk copy
+/// of the region and checked exactly: a polygon sliding along a fixed one
+/// (minimized from `gen_small parallel 1325`), and a vertex left on an
+/// edge after a response (from `gen_small simultaneous 1426`), with both
+/// structures.
 #[test]
 fn settled_contacts_are_repaired_locally() {
     for name in [
@@ -129,8 +138,18 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_around_both_bodies.json",
         "local_repair_after_a_trial_normalization.json",
         "local_repair_after_the_response.json",
+        "local_repair_while_two_polygons_slide.json",
+        "local_repair_with_a_vertex_on_an_edge.json",
     ] {
         let v = stats_of(name, "plain");
+        assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
+        assert!(v["local_repairs"].as_u64().unwrap_or(0) >= 1, "{name}: {v}");
+    }
+    for name in [
+        "local_repair_while_two_polygons_slide.json",
+        "local_repair_with_a_vertex_on_an_edge.json",
+    ] {
+        let v = stats_of(name, "hierarchical");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
         assert!(v["local_repairs"].as_u64().unwrap_or(0) >= 1, "{name}: {v}");
     }

@@ -127,6 +127,40 @@ impl Kss {
         self.region_plan(world, set, at, true)
     }
 
+    /// The doubles `approx` of the region's vertices `atts` at time `t`,
+    /// each polygon's shrunk towards a point strictly inside its real
+    /// polygon (the centroid of three of its vertices a third of the way
+    /// round from each other) by a relative `2^-26`: touching polygons come
+    /// apart by about that fraction of their size. O(1) per polygon.
+    fn shrunk_copy(
+        &self,
+        world: &Geo,
+        atts: &[Att],
+        approx: &[[f64; 2]],
+        t: &Rational,
+    ) -> Vec<[f64; 2]> {
+        const EPS: f64 = 1.0 / (1u64 << 26) as f64;
+        let mut centre: HashMap<BodyId, [f64; 2]> = HashMap::new();
+        atts.iter()
+            .zip(approx)
+            .map(|(a, &[x, y])| {
+                let Obj::Body(b) = a.obj else {
+                    return [x, y];
+                };
+                let c = *centre.entry(b).or_insert_with(|| {
+                    let body = world.body(b);
+                    let n = body.shape.len();
+                    let pts = [0, n / 3, 2 * n / 3].map(|i| body.vertex_at(i, t).to_f64());
+                    [
+                        (pts[0][0] + pts[1][0] + pts[2][0]) / 3.0,
+                        (pts[0][1] + pts[1][1] + pts[2][1]) / 3.0,
+                    ]
+                });
+                [x + EPS * (c[0] - x), y + EPS * (c[1] - y)]
+            })
+            .collect()
+    }
+
     /// [`Kss::removal_plan`] (`set == [p]`, `keep == false`) or
     /// [`Kss::retriangulation_plan`] (`keep == true`) at the rational
     /// instant `t`.
@@ -262,33 +296,51 @@ impl Kss {
         let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
         let mut tris: Vec<[usize; 3]> = Vec::new();
         if atts.len() >= 3 {
-            let pts: Vec<Point2<f64>> = approx.iter().map(|f| Point2::new(f[0], f[1])).collect();
             let mut edges: Vec<[usize; 2]> = constraints.iter().map(|&(x, y)| [x, y]).collect();
             edges.sort_unstable();
-            let mut conflict = false;
-            let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-                ConstrainedDelaunayTriangulation::try_bulk_load_cdt(pts, edges, |_| {
-                    conflict = true
-                })
-                .map_err(|e| format!("{e:?}"))?;
-            if conflict {
-                return Err("constraints cross after rounding".into());
-            }
-            if cdt.num_vertices() != atts.len() {
-                return Err("vertices coincide after rounding".into());
-            }
-            // a constraint through a vertex is split by spade without a
-            // conflict: the flood fill would cross it
-            let fix = spade::handles::FixedVertexHandle::from_index;
-            if constraints
-                .iter()
-                .any(|&(x, y)| !cdt.exists_constraint(fix(x), fix(y)))
-            {
-                return Err("a constraint passes through a vertex after rounding".into());
-            }
-            for f in cdt.inner_faces() {
-                let [u, v, w] = f.vertices().map(|h| h.fix().index());
-                let tri = match orient_exact(u, v, w) {
+            // the orientation a triangle takes where it is flat exactly
+            let mut flat_sign: HashMap<[usize; 3], Sign> = HashMap::new();
+            let faces = match local_cdt(&approx, &edges) {
+                Ok(faces) => faces,
+                // polygons that touch at `t` (one sliding along another's
+                // edge, a vertex on an edge) put a vertex on a constraint:
+                // the combinatorics come from a copy of the region with
+                // every polygon shrunk a little towards a point inside it
+                // (as the construction does), and are checked exactly below
+                Err(first) => {
+                    let shrunk = self.shrunk_copy(world, &atts, &approx, t);
+                    let faces = local_cdt(&shrunk, &edges).map_err(|_| first)?;
+                    let rounded: Vec<Point> = shrunk
+                        .iter()
+                        .map(|&f| Point::from_f64(f).expect("finite"))
+                        .collect();
+                    // a triangle that is flat exactly (between two polygons
+                    // in contact) takes the shrunk copy's orientation (a
+                    // partition triangle that is flat does not hold just
+                    // after `t` and is refused by the caller; a corridor's
+                    // is checked by its decomposition); one that the
+                    // shrinking turned over is not valid
+                    for &[u, v, w] in &faces {
+                        let shrunk_sign = orient(&rounded[u], &rounded[v], &rounded[w]);
+                        match orient_exact(u, v, w) {
+                            Sign::Zero => {
+                                flat_sign.insert([u, v, w], shrunk_sign);
+                            }
+                            s if s != shrunk_sign => {
+                                return Err("the shrunk triangulation is not valid exactly".into());
+                            }
+                            _ => {}
+                        }
+                    }
+                    faces
+                }
+            };
+            for [u, v, w] in faces {
+                let sign = match orient_exact(u, v, w) {
+                    Sign::Zero => flat_sign.get(&[u, v, w]).copied().unwrap_or(Sign::Zero),
+                    s => s,
+                };
+                let tri = match sign {
                     Sign::Positive => [u, v, w],
                     // spade's faces are counter-clockwise in doubles: the
                     // rounded triangulation is not valid exactly
@@ -663,4 +715,38 @@ impl Kss {
         self.corrs.truncate(len as usize);
         out
     }
+}
+
+/// The triangles (vertex triples, counter-clockwise in doubles) of the
+/// constrained Delaunay triangulation of `pts` with the constraint `edges`;
+/// an error when the doubles make it differ from the constraints (two of
+/// them cross, two vertices coincide, or a constraint passes through a
+/// vertex).
+fn local_cdt(pts: &[[f64; 2]], edges: &[[usize; 2]]) -> Result<Vec<[usize; 3]>, String> {
+    let points: Vec<Point2<f64>> = pts.iter().map(|f| Point2::new(f[0], f[1])).collect();
+    let mut conflict = false;
+    let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, edges.to_vec(), |_| {
+            conflict = true
+        })
+        .map_err(|e| format!("{e:?}"))?;
+    if conflict {
+        return Err("constraints cross after rounding".into());
+    }
+    if cdt.num_vertices() != pts.len() {
+        return Err("vertices coincide after rounding".into());
+    }
+    // a constraint through a vertex is split by spade without a conflict:
+    // the flood fill would cross it
+    let fix = spade::handles::FixedVertexHandle::from_index;
+    if edges
+        .iter()
+        .any(|&[x, y]| !cdt.exists_constraint(fix(x), fix(y)))
+    {
+        return Err("a constraint passes through a vertex after rounding".into());
+    }
+    Ok(cdt
+        .inner_faces()
+        .map(|f| f.vertices().map(|h| h.fix().index()))
+        .collect())
 }
