@@ -25,7 +25,8 @@
 //! follow such a touch came too early: before the instant's last event, or
 //! after the reference had taken over; settled contacts where a vertex lies
 //! on another polygon's edge at every instant tried, repaired locally from a
-//! shrunk copy of the region). Each must give byte-identical
+//! shrunk copy of the region, or from a region grown by two polygons
+//! whose corridor is degenerate at the same instant). Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};
@@ -130,7 +131,10 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// of the region and checked exactly: a polygon sliding along a fixed one
 /// (minimized from `gen_small parallel 1325`), and a vertex left on an
 /// edge after a response (from `gen_small simultaneous 1426`), with both
-/// structures.
+/// structures. And one whose region around the two polygons of the contact
+/// takes a corridor between two others that is degenerate at the same
+/// instant and has no decomposition just after it; the region grows by
+/// those two (minimized from `gen_small grazing 2668`).
 #[test]
 fn settled_contacts_are_repaired_locally() {
     for name in [
@@ -140,6 +144,7 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_after_the_response.json",
         "local_repair_while_two_polygons_slide.json",
         "local_repair_with_a_vertex_on_an_edge.json",
+        "local_repair_grown_by_a_neighbouring_degeneracy.json",
     ] {
         let v = stats_of(name, "plain");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");

@@ -942,13 +942,22 @@ impl Kinetic {
         if singles && bodies.len() > 1 {
             sets.extend(bodies.iter().map(|&b| vec![b]));
         }
-        for set in &sets {
+        // a set whose region has a corridor between two other bodies that
+        // does not decompose just after `now` (a degeneracy of theirs at
+        // the same instant) is tried again with those bodies in it, at most
+        // twice from each first set
+        let mut grown: Vec<u8> = vec![0; sets.len()];
+        let mut i = 0;
+        while i < sets.len() {
+            let set = sets[i].clone();
+            let rounds = grown[i];
+            i += 1;
             let b = set[0];
             let mut hi_b = hi.clone();
             for _ in 0..40 {
                 let at = now.rational_between(&hi_b);
                 let at_t = Time::from_rational(at.clone());
-                let plan = match self.kss.retriangulation_plan(world, set, &at) {
+                let plan = match self.kss.retriangulation_plan(world, &set, &at) {
                     Ok(plan) => plan,
                     Err(_e) => {
                         trace!("repair around {set:?} at {}: {_e}", at_t.to_f64());
@@ -976,11 +985,25 @@ impl Kinetic {
                 }
                 // and every new corridor must have a decomposition just
                 // after `now` (tried, and undone)
-                if !self.kss.retriangulation_decomposes(world, &plan, now) {
+                if let Err(pair) = self.kss.retriangulation_decomposes(world, &plan, now) {
                     trace!(
-                        "repair around {set:?} at {}: a corridor does not decompose",
+                        "repair around {set:?} at {}: a corridor {pair:?} does not decompose",
                         at_t.to_f64()
                     );
+                    let more: Vec<BodyId> = (pair.iter())
+                        .filter_map(|o| match *o {
+                            Obj::Body(c) if !set.contains(&c) => Some(c),
+                            _ => None,
+                        })
+                        .collect();
+                    if !more.is_empty() && rounds < 2 {
+                        let mut bigger = set.clone();
+                        bigger.extend(more);
+                        if !sets.contains(&bigger) {
+                            sets.push(bigger);
+                            grown.push(rounds + 1);
+                        }
+                    }
                     hi_b = at_t;
                     continue;
                 }

@@ -584,13 +584,14 @@ impl Kss {
     /// pseudo-triangle decomposition just after `now` (after its geodesic
     /// middle bridge, as [`Kss::apply_removal`]'s callers place it). The
     /// plan is applied, the corridors normalized, and every slot it touched
-    /// restored: `O(|R|)`, the structure unchanged afterwards.
+    /// restored: `O(|R|)`, the structure unchanged afterwards. On failure,
+    /// the two objects of the first corridor without one.
     pub fn retriangulation_decomposes(
         &mut self,
         world: &Geo,
         plan: &RemovalPlan,
         now: &Time,
-    ) -> bool {
+    ) -> Result<(), [Obj; 2]> {
         debug_assert_eq!(
             plan.new_tris.len(),
             plan.dead_tris.len(),
@@ -613,9 +614,11 @@ impl Kss {
         let spliced = self.apply_removal(plan.clone());
         // (a decomposition that holds junctions against the motion is not
         // one just after `now`: those certificates would fail at once)
-        let ok = spliced.corrs.iter().all(|&k| {
+        let failed = spliced.corrs.iter().find_map(|&k| {
             self.place_middle_bridge(world, k, now);
-            self.normalize(world, k, now, None).is_ok() && !self.held.contains_key(&k)
+            let ok = self.normalize(world, k, now, None).is_ok() && !self.held.contains_key(&k);
+            let c = &self.corrs[k.0 as usize];
+            (!ok).then_some([c.a, c.b])
         });
         for (t, tri) in tris {
             self.tris[t.0 as usize] = tri;
@@ -627,7 +630,10 @@ impl Kss {
                 None => self.held.remove(&k),
             };
         }
-        ok
+        match failed {
+            None => Ok(()),
+            Some(pair) => Err(pair),
+        }
     }
 
     /// Apply a removal plan: the new triangles and corridors take the
