@@ -26,7 +26,9 @@
 //! after the reference had taken over; settled contacts where a vertex lies
 //! on another polygon's edge at every instant tried, repaired locally from a
 //! shrunk copy of the region, or from a region grown by two polygons
-//! whose corridor is degenerate at the same instant). Each must give byte-identical
+//! whose corridor is degenerate at the same instant, or after the
+//! collision response of an instant at which the local operations failed).
+//! Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};
@@ -134,7 +136,12 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// structures. And one whose region around the two polygons of the contact
 /// takes a corridor between two others that is degenerate at the same
 /// instant and has no decomposition just after it; the region grows by
-/// those two (minimized from `gen_small grazing 2668`).
+/// those two (minimized from `gen_small grazing 2668`). And local
+/// operations that fail at an instant with a collision: the region around
+/// the failing certificate's polygons is repaired after the response, the
+/// events deferred meanwhile scheduled again (from `gen_small simultaneous
+/// 4298`; a global rebuild after the response before), with both
+/// structures.
 #[test]
 fn settled_contacts_are_repaired_locally() {
     for name in [
@@ -145,6 +152,7 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_while_two_polygons_slide.json",
         "local_repair_with_a_vertex_on_an_edge.json",
         "local_repair_grown_by_a_neighbouring_degeneracy.json",
+        "local_repair_after_failed_operations_and_a_response.json",
     ] {
         let v = stats_of(name, "plain");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
@@ -153,6 +161,7 @@ fn settled_contacts_are_repaired_locally() {
     for name in [
         "local_repair_while_two_polygons_slide.json",
         "local_repair_with_a_vertex_on_an_edge.json",
+        "local_repair_after_failed_operations_and_a_response.json",
     ] {
         let v = stats_of(name, "hierarchical");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");

@@ -70,8 +70,11 @@ pub struct Kinetic {
     broken: Option<&'static str>,
     /// For a `refine_rebuild` after the response: the bodies whose
     /// approximations were refined (the region a local repair takes
-    /// instead), unless an event was deferred meanwhile (`None`: the
-    /// deferred events need the whole structure rebuilt).
+    /// instead); for a `degenerate_rebuild`, the bodies of the certificate
+    /// on which the local operations failed, with it and the certificates
+    /// deferred after it. `None` after a refinement if an event was
+    /// deferred meanwhile (the deferred events need the whole structure
+    /// rebuilt).
     broken_around: Option<(Vec<BodyId>, Vec<[Att; 3]>)>,
     /// Internal events by kind.
     pub counts: BTreeMap<&'static str, u64>,
@@ -702,6 +705,20 @@ impl Kinetic {
             if kind == "refine_rebuild" && self.repair_refined(world, &around, &triples, now) {
                 for p in &triples {
                     self.reschedule_idle(world, p, now);
+                }
+            } else if kind == "degenerate_rebuild"
+                && !around.is_empty()
+                && self.unbuildable.as_ref() != Some(now)
+                && self.repair_around(world, (&around, false), triples[0], now)?
+            {
+                // (the local operations failed on `triples[0]` before the
+                // response, the others were deferred after it; the region
+                // around its bodies is whole again, and every one of them
+                // that still exists is scheduled again)
+                for p in &triples {
+                    if self.certs.get(p).is_some_and(|s| s.key.is_none()) {
+                        self.reschedule(world, p, now);
+                    }
                 }
             } else {
                 self.rebuild_after(world, now, kind)?;
@@ -1337,21 +1354,20 @@ impl Kinetic {
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, String> {
         if self.broken.is_some() {
-            // this event waits for the rebuild: a local repair would miss it
-            self.broken_around = None;
+            // this event waits for the rebuild. After a refinement a local
+            // repair would miss it; after failed local operations it is
+            // scheduled again once the region around them is repaired (and
+            // handled then, at this instant if it still fails at it)
+            match (self.broken, self.broken_around.as_mut()) {
+                (Some("degenerate_rebuild"), Some((_, triples))) => triples.push(p),
+                _ => self.broken_around = None,
+            }
             return Ok(Step::Deferred(t));
         }
         match self.handle(world, p, t.clone(), contacts, collides) {
             Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
                 trace!("local operations failed at {}: {e}; repairing", t.to_f64());
-                let mut bodies: Vec<BodyId> = Vec::new();
-                for a in p {
-                    if let Obj::Body(b) = a.obj {
-                        if !bodies.contains(&b) {
-                            bodies.push(b);
-                        }
-                    }
-                }
+                let bodies = bodies_of(&p);
                 // (only all of them together: the failed operation may have
                 // changed corridors between any two of them before failing,
                 // and the region must take every such corridor; not after a
@@ -1370,14 +1386,16 @@ impl Kinetic {
                 Ok(Step::Internal(t))
             }
             Err(_e) => {
-                // contacts at this instant: rebuild once the collision
-                // response has set the motions (`motion_changed`)
+                // contacts at this instant: repair once the collision
+                // response has set the motions (`motion_changed`), around
+                // the failing certificate's bodies (if nothing else is
+                // deferred meanwhile), else rebuild then
                 trace!(
-                    "local operations failed at {}: {_e}; rebuilding after the response",
+                    "local operations failed at {}: {_e}; repairing after the response",
                     t.to_f64()
                 );
                 self.broken = Some("degenerate_rebuild");
-                self.broken_around = None;
+                self.broken_around = Some((bodies_of(&p), vec![p]));
                 Ok(Step::Deferred(t))
             }
             other => other,
