@@ -27,7 +27,8 @@
 //! on another polygon's edge at every instant tried, repaired locally from a
 //! shrunk copy of the region, or from a region grown by two polygons
 //! whose corridor is degenerate at the same instant, or after the
-//! collision response of an instant at which the local operations failed).
+//! collision response of an instant at which the local operations failed,
+//! or at an instant whose hull is convex just after the contact).
 //! Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
@@ -141,7 +142,10 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// the failing certificate's polygons is repaired after the response, the
 /// events deferred meanwhile scheduled again (from `gen_small simultaneous
 /// 4298`; a global rebuild after the response before), with both
-/// structures.
+/// structures. And a repair whose triangulation, at the instant tried, had
+/// a hull that is not convex just after the contact: the instant is now
+/// refused before the splice (two polygons, `gen_small simultaneous 4187`;
+/// the splice found the hull turn failing at once and rebuilt).
 #[test]
 fn settled_contacts_are_repaired_locally() {
     for name in [
@@ -153,6 +157,7 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_with_a_vertex_on_an_edge.json",
         "local_repair_grown_by_a_neighbouring_degeneracy.json",
         "local_repair_after_failed_operations_and_a_response.json",
+        "local_repair_hull_turn_checked_just_after.json",
     ] {
         let v = stats_of(name, "plain");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");

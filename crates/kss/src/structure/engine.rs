@@ -1152,7 +1152,10 @@ impl Kinetic {
                 continue;
             }
             if self.due_now(p, s.key, now) && is_failing(world, &s.cert, now) {
-                trace!("splice around {b:?}: certificate {p:?} fails at once");
+                trace!(
+                    "splice around {b:?}: certificate {:?} fails at once",
+                    s.cert
+                );
                 return Ok(false);
             }
         }

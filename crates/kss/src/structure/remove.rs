@@ -584,8 +584,9 @@ impl Kss {
     /// pseudo-triangle decomposition just after `now` (after its geodesic
     /// middle bridge, as [`Kss::apply_removal`]'s callers place it). The
     /// plan is applied, the corridors normalized, and every slot it touched
-    /// restored: `O(|R|)`, the structure unchanged afterwards. On failure,
-    /// the two objects of the first corridor without one.
+    /// restored: `O(|R|)`, the structure unchanged afterwards. The hull
+    /// turns at the new hull bridges must hold just after `now` too. On
+    /// failure, the two objects of the first corridor without either.
     pub fn retriangulation_decomposes(
         &mut self,
         world: &Geo,
@@ -614,9 +615,17 @@ impl Kss {
         let spliced = self.apply_removal(plan.clone());
         // (a decomposition that holds junctions against the motion is not
         // one just after `now`: those certificates would fail at once)
+        // (and the hull must be locally convex just after `now` at the ends
+        // of its new bridges: the triangulation's hull is that of the
+        // instant tried, and a hull turn can change sign in between)
         let failed = spliced.corrs.iter().find_map(|&k| {
             self.place_middle_bridge(world, k, now);
-            let ok = self.normalize(world, k, now, None).is_ok() && !self.held.contains_key(&k);
+            let ok = self.normalize(world, k, now, None).is_ok()
+                && !self.held.contains_key(&k)
+                && (self.corrs[k.0 as usize].b != Obj::Omega
+                    || self.hull_turns(world, k).iter().all(|(p, _)| {
+                        super::local::turn(world, p[0], p[1], p[2], now) != Sign::Negative
+                    }));
             let c = &self.corrs[k.0 as usize];
             (!ok).then_some([c.a, c.b])
         });
