@@ -28,7 +28,8 @@
 //! shrunk copy of the region, or from a region grown by two polygons
 //! whose corridor is degenerate at the same instant, or after the
 //! collision response of an instant at which the local operations failed,
-//! or at an instant whose hull is convex just after the contact).
+//! or at an instant whose hull is convex just after the contact; local
+//! operations that cycle at one instant).
 //! Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
 
@@ -171,6 +172,29 @@ fn settled_contacts_are_repaired_locally() {
         let v = stats_of(name, "hierarchical");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
         assert!(v["local_repairs"].as_u64().unwrap_or(0) >= 1, "{name}: {v}");
+    }
+}
+
+/// `gen_small grazing 4197` (two polygons): at one instant two touches of
+/// the pair undo each other's operation, the same certificates failing in
+/// turn. The driver's guard let it run 1152 operations at that instant and
+/// then rebuilt the whole structure; a certificate handled a fourth time at
+/// one instant is now taken as a cycle, and the region around the polygons
+/// of the last certificates handled is triangulated again for just after
+/// it.
+#[test]
+fn local_operations_that_cycle_are_repaired_locally() {
+    for structure in ["plain", "hierarchical"] {
+        let v = stats_of("local_operations_cycle_at_an_instant.json", structure);
+        assert_eq!(v["degenerate_rebuilds"], 0, "{structure}: {v}");
+        assert!(
+            v["local_repairs"].as_u64().unwrap_or(0) >= 1,
+            "{structure}: {v}"
+        );
+        assert!(
+            v["events_processed"].as_u64().unwrap_or(u64::MAX) < 100,
+            "{structure}: {v}"
+        );
     }
 }
 

@@ -1177,6 +1177,19 @@ impl KineticEngine {
                 Step::Internal(t) => {
                     if last.as_ref() == Some(&t) {
                         ops_now += 1;
+                        if contacts.is_empty() && !rebuilt_now && self.k.cycling(&t) {
+                            // the same certificate fails again and again at
+                            // this instant: the region around the polygons
+                            // of the cycle is triangulated for just after it
+                            let geo = Geo {
+                                world,
+                                shapes: &self.shapes,
+                            };
+                            if self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)? {
+                                rebuilt_now = true;
+                                ops_now = 0;
+                            }
+                        }
                         if ops_now > 64 * (world.len() as u64 + 16) {
                             // the local operations cycle at a degenerate
                             // instant: rebuild once for just after it
@@ -1190,9 +1203,15 @@ impl KineticEngine {
                                     world,
                                     shapes: &self.shapes,
                                 };
-                                self.k
-                                    .rebuild_after(&geo, &t, "degenerate_rebuild")
-                                    .map_err(RunError::Internal)?;
+                                // the region around the polygons of the
+                                // cycle first, else everything
+                                let repaired =
+                                    self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)?;
+                                if !repaired {
+                                    self.k
+                                        .rebuild_after(&geo, &t, "degenerate_rebuild")
+                                        .map_err(RunError::Internal)?;
+                                }
                             } else {
                                 // after the collision response
                                 self.k.give_up_instant();

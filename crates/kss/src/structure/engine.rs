@@ -89,6 +89,12 @@ pub struct Kinetic {
     settled: Vec<(BodyId, BodyId)>,
     /// The corridors the last operation touched (where coarsening is tried).
     last_touched: Vec<CorrId>,
+    /// The last few certificates handled at the instant of the last one
+    /// (where local operations that cycle at one instant are repaired,
+    /// [`Kinetic::repair_cycle`]).
+    recent: std::collections::VecDeque<[Att; 3]>,
+    /// The instant of `recent`.
+    recent_at: Option<Time>,
     /// Rotates the coarsening candidates.
     tick: u64,
 }
@@ -225,6 +231,9 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     }
     p.failure_after_positive(now)
 }
+
+/// How many handled certificates [`Kinetic::repair_cycle`] looks back at.
+const RECENT: usize = 8;
 
 /// The distinct bodies of a triple.
 fn bodies_of(p: &[Att; 3]) -> Vec<BodyId> {
@@ -1405,6 +1414,42 @@ impl Kinetic {
         }
     }
 
+    /// Whether the local operations seem to cycle at `now`: the last
+    /// certificate handled was handled three times before at this instant, among
+    /// the last few (the driver then tries [`Kinetic::repair_cycle`]).
+    pub fn cycling(&self, now: &Time) -> bool {
+        self.recent_at.as_ref() == Some(now)
+            && self
+                .recent
+                .back()
+                .is_some_and(|p| self.recent.iter().filter(|&q| q == p).count() >= 4)
+    }
+
+    /// The local operations cycle at `now` ([`Kinetic::cycling`], or the
+    /// driver's guard: far more operations at one instant than the
+    /// structure has corridors): repair
+    /// the region around the polygons of the last certificates handled, as
+    /// at a settled contact ([`Kinetic::repair_around`]), so that the
+    /// structure is the one for just after `now`. `false` when there is
+    /// none (the caller rebuilds the whole structure).
+    pub fn repair_cycle(&mut self, world: &Geo, now: &Time) -> Result<bool, String> {
+        let Some(&last) = self.recent.back() else {
+            return Ok(false);
+        };
+        let mut bodies: Vec<BodyId> = self.recent.iter().flat_map(bodies_of).collect();
+        bodies.sort();
+        bodies.dedup();
+        if !self.repair_around(world, (&bodies, false), last, now)? {
+            return Ok(false);
+        }
+        for p in self.recent.clone() {
+            if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                self.reschedule(world, &p, now);
+            }
+        }
+        Ok(true)
+    }
+
     /// Rebuild the structure from scratch for the instants just after `now`:
     /// built at a rational instant `at > now` so close to `now` that every
     /// new certificate holds on all of `(now, at]`, then scheduled from
@@ -1495,6 +1540,14 @@ impl Kinetic {
         }
         let cert = s.cert;
         let owners = s.owners.clone();
+        if self.recent_at.as_ref() != Some(&t) {
+            self.recent.clear();
+            self.recent_at = Some(t.clone());
+        }
+        if self.recent.len() == RECENT {
+            self.recent.pop_front();
+        }
+        self.recent.push_back(p);
         if cert_poly(world, &cert).sign_after(&t) == Sign::Positive {
             // an operation at this instant made it hold again
             self.reschedule(world, &p, &t);
