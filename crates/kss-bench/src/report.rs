@@ -95,6 +95,76 @@ pub fn format_ratio(r: f64) -> String {
     }
 }
 
+/// `hierarchical`'s wall time over each other method's, per workload (the
+/// headline ratios): below 1 (bold) the library's default structure is
+/// faster. Empty when the run has no `hierarchical` cell.
+fn against_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<Workload>)]) {
+    const H: &str = "hierarchical";
+    if !run.cells.iter().any(|c| c.method == H) {
+        return;
+    }
+    let others: Vec<&String> = run.methods.iter().filter(|m| *m != H).collect();
+    let _ = writeln!(s, "\n## `hierarchical` against each method\n");
+    let _ = writeln!(
+        s,
+        "Each cell: `hierarchical`'s wall time divided by the method's on the same \
+         workload; below 1 (bold) `hierarchical` is faster. `(m/w)` after a ratio: \
+         the method missed m of the reference's collisions and reported w at a wrong \
+         time (in bounce mode, where trajectories diverge after the first \
+         difference, `(≠)` instead). Last column: `hierarchical`'s own wall time.\n"
+    );
+    let _ = write!(s, "| workload |");
+    for me in &others {
+        let _ = write!(s, " {} |", method_label(me));
+    }
+    let _ = writeln!(s, " hierarchical |");
+    let _ = write!(s, "| --- |");
+    for _ in 0..=others.len() {
+        let _ = write!(s, " ---: |");
+    }
+    s.push('\n');
+    for (w, wl) in workloads {
+        let bounce = wl
+            .as_ref()
+            .is_some_and(|w| w.mode() == kss::CollisionMode::Bounce);
+        let h = run
+            .cell(w, H)
+            .filter(|c| c.outcome.status == Status::Ok)
+            .map(|c| c.outcome.wall_seconds);
+        let _ = write!(s, "| {w} |");
+        for me in &others {
+            let text = match (run.cell(w, me), h) {
+                (Some(c), Some(ht)) if c.outcome.status == Status::Ok => {
+                    let r = ht / c.outcome.wall_seconds;
+                    let ratio = if r < 1.0 {
+                        format!("**{}**", format_ratio(r))
+                    } else {
+                        format_ratio(r)
+                    };
+                    let wrong = c.comparison.as_ref().filter(|x| !x.identical);
+                    match wrong {
+                        Some(_) if bounce => format!("{ratio} (≠)"),
+                        Some(x) => format!("{ratio} ({}/{})", x.missed, x.wrong_time),
+                        None => ratio,
+                    }
+                }
+                (Some(c), _) if c.outcome.status == Status::Ok => {
+                    human_seconds(c.outcome.wall_seconds)
+                }
+                (Some(c), _) => status_short(c),
+                (None, _) => String::new(),
+            };
+            let _ = write!(s, " {text} |");
+        }
+        let own = match run.cell(w, H) {
+            Some(c) if c.outcome.status == Status::Ok => human_seconds(c.outcome.wall_seconds),
+            Some(c) => status_short(c),
+            None => String::new(),
+        };
+        let _ = writeln!(s, " {own} |");
+    }
+}
+
 /// A duration for people.
 pub fn human_seconds(s: f64) -> String {
     if s < 1e-3 {
@@ -276,6 +346,9 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
         }
         s.push('\n');
     }
+
+    // 1b. the library's default structure against each method
+    against_section(&mut s, run, &workloads);
 
     // 2. accuracy
     let _ = writeln!(s, "\n## Collisions found against the exact reference\n");

@@ -69,6 +69,7 @@ fn tiny_run_writes_a_report() {
     let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
     assert!(md.contains("| cluster-k16 |"));
     assert!(md.contains("## Events, certificates and time per event"));
+    assert!(md.contains("## `hierarchical` against each method"));
     assert!(md.contains("### gas") && md.contains("| sweep ns/ev |"));
     assert!(md.contains("| events / sim s | ns / event |"));
     assert!(md.contains("parry-step dt=1/240"));
