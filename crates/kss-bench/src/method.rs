@@ -91,14 +91,6 @@ impl Method {
         )
     }
 
-    /// Whether the method is finished: its errors and differences from the
-    /// reference fail `kss bench`. `plain` has known failures on the
-    /// degenerate workloads while issue 3 is open (they are shown in the
-    /// table and listed as warnings); `hierarchical` is not written yet.
-    pub fn is_complete(&self) -> bool {
-        !matches!(self, Method::Plain | Method::Hierarchical)
-    }
-
     /// Runs the method on `scenario`, collecting its events.
     pub fn run(
         &self,

@@ -28,6 +28,11 @@ pub struct Machine {
     pub profile: String,
     /// Date of the run (UTC).
     pub date: String,
+    /// A fingerprint of the executable that ran the benchmark (64-bit
+    /// FNV-1a of its bytes, hex; empty in older results): a resumed run
+    /// must be run by the same binary.
+    #[serde(default)]
+    pub binary: String,
 }
 
 /// Describes this machine.
@@ -61,6 +66,15 @@ pub fn machine() -> Machine {
             "release".into()
         },
         date: civil_date(secs),
+        binary: std::env::current_exe()
+            .and_then(fs::read)
+            .map(|bytes| {
+                let h = bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| {
+                    (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+                });
+                format!("{h:016x}")
+            })
+            .unwrap_or_default(),
     }
 }
 
@@ -111,7 +125,8 @@ fn against_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<
          workload; below 1 (bold) `hierarchical` is faster. `(m/w)` after a ratio: \
          the method missed m of the reference's collisions and reported w at a wrong \
          time (in bounce mode, where trajectories diverge after the first \
-         difference, `(≠)` instead). Last column: `hierarchical`'s own wall time.\n"
+         difference, `(≠)` instead). Last column: `hierarchical`'s own wall time \
+         (marked if its collisions differ from the reference's, a bug).\n"
     );
     let _ = write!(s, "| workload |");
     for me in &others {
@@ -157,6 +172,10 @@ fn against_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<
             let _ = write!(s, " {text} |");
         }
         let own = match run.cell(w, H) {
+            Some(c) if exact_differs(c) => format!(
+                "{} **DIFFERS (bug)**",
+                human_seconds(c.outcome.wall_seconds)
+            ),
             Some(c) if c.outcome.status == Status::Ok => human_seconds(c.outcome.wall_seconds),
             Some(c) => status_short(c),
             None => String::new(),
@@ -291,7 +310,7 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
         match run.resumes {
             0 => String::new(),
             n => format!(
-                " (interrupted and resumed {n} time{} with `--resume`, on the same binary: \
+                " (interrupted and resumed {n} time{} with `--resume`, by the same binary on the same machine: \
                  the workloads finished before were kept, the one interrupted ran again \
                  from its first cell)",
                 if n == 1 { "" } else { "s" }

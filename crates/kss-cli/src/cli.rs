@@ -382,8 +382,9 @@ pub struct BenchArgs {
     /// (`<out>/checkpoint.json`, rewritten after every workload). Its
     /// finished workloads are kept as they are, the others run; the budget
     /// and the methods must be the same. Use the same --out to keep its
-    /// events files.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["list", "cell"])]
+    /// events files. It must be the same binary on the same machine, with
+    /// the same workloads, methods, budget, mode and --build-time.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["list", "cell", "report_from"])]
     pub resume: Option<PathBuf>,
     /// Print the workloads and methods that would run, and exit.
     #[arg(long)]

@@ -1184,5 +1184,27 @@ fn bench_writes_a_checkpoint_and_resumes_from_it() {
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("same methods"), "{}", stderr(&o));
+    // and so is one of other workloads (its cells would be dropped)
+    let o = run_kss(
+        &[
+            "bench",
+            "--quick",
+            "--methods",
+            "brute,sweep",
+            "--workload",
+            "flypast-n16-r1e1",
+            "--resume",
+            checkpoint.to_str().unwrap(),
+            "--out",
+            dir.join("other").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("same methods, workloads"),
+        "{}",
+        stderr(&o)
+    );
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -1086,6 +1086,9 @@ impl KineticEngine {
         let mut at: Option<Time> = None;
         let mut ops_now = 0u64;
         let mut rebuilt_now = false;
+        // (a cycle of the local operations is repaired once per instant;
+        // the guard below still rebuilds if they cycle again)
+        let mut repaired_cycle_now = false;
         let mut last: Option<Time> = None;
         let mut refines: Vec<[Att; 3]> = Vec::new();
         let mut refine_at: Option<Time> = None;
@@ -1177,7 +1180,12 @@ impl KineticEngine {
                 Step::Internal(t) => {
                     if last.as_ref() == Some(&t) {
                         ops_now += 1;
-                        if contacts.is_empty() && !rebuilt_now && self.k.cycling(&t) {
+                        if contacts.is_empty()
+                            && !repaired_cycle_now
+                            && !rebuilt_now
+                            && self.k.cycling(&t)
+                        {
+                            repaired_cycle_now = true;
                             // the same certificate fails again and again at
                             // this instant: the region around the polygons
                             // of the cycle is triangulated for just after it
@@ -1185,10 +1193,15 @@ impl KineticEngine {
                                 world,
                                 shapes: &self.shapes,
                             };
-                            if self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)? {
+                            // (a failed repair may have left its region
+                            // half changed: the whole structure is rebuilt)
+                            if !self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)? {
+                                self.k
+                                    .rebuild_after(&geo, &t, "degenerate_rebuild")
+                                    .map_err(RunError::Internal)?;
                                 rebuilt_now = true;
-                                ops_now = 0;
                             }
+                            ops_now = 0;
                         }
                         if ops_now > 64 * (world.len() as u64 + 16) {
                             // the local operations cycle at a degenerate
@@ -1204,24 +1217,28 @@ impl KineticEngine {
                                     shapes: &self.shapes,
                                 };
                                 // the region around the polygons of the
-                                // cycle first, else everything
-                                let repaired =
-                                    self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)?;
+                                // cycle first (once per instant), else
+                                // everything
+                                let repaired = !repaired_cycle_now
+                                    && self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)?;
+                                repaired_cycle_now = true;
                                 if !repaired {
                                     self.k
                                         .rebuild_after(&geo, &t, "degenerate_rebuild")
                                         .map_err(RunError::Internal)?;
+                                    rebuilt_now = true;
                                 }
                             } else {
                                 // after the collision response
                                 self.k.give_up_instant();
+                                rebuilt_now = true;
                             }
-                            rebuilt_now = true;
                             ops_now = 0;
                         }
                     } else {
                         ops_now = 0;
                         rebuilt_now = false;
+                        repaired_cycle_now = false;
                         last = Some(t.clone());
                     }
                     if contacts.is_empty() && refine_at.is_none() {

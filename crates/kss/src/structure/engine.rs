@@ -591,6 +591,9 @@ impl Kinetic {
         now: &Time,
         bodies: &[BodyId],
     ) -> Result<(), String> {
+        // (the motions changed: operations before this are no cycle of
+        // operations after it)
+        self.recent.clear();
         let mut touched: Vec<[Att; 3]> = bodies
             .iter()
             .filter_map(|b| self.by_body.get(b))
@@ -1025,7 +1028,12 @@ impl Kinetic {
                     if !more.is_empty() && rounds < 2 {
                         let mut bigger = set.clone();
                         bigger.extend(more);
-                        if !sets.contains(&bigger) {
+                        bigger.sort();
+                        if !sets.iter().any(|x| {
+                            let mut x = x.clone();
+                            x.sort();
+                            x == bigger
+                        }) {
                             sets.push(bigger);
                             grown.push(rounds + 1);
                         }
@@ -1442,7 +1450,7 @@ impl Kinetic {
         if !self.repair_around(world, (&bodies, false), last, now)? {
             return Ok(false);
         }
-        for p in self.recent.clone() {
+        for p in std::mem::take(&mut self.recent) {
             if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
                 self.reschedule(world, &p, now);
             }
