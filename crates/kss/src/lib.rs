@@ -2,9 +2,9 @@
 //!
 //! Given convex polygons that translate along piecewise-linear flight plans,
 //! kss reports every collision exactly and in time order, without stepping
-//! time. It implements (in progress) the *separation-sensitive kinetic
-//! separation structure* of Kirkpatrick and Speckmann, and ships the exact
-//! all-pairs reference it is tested against.
+//! time. It implements the *separation-sensitive kinetic separation
+//! structure* of Kirkpatrick and Speckmann, and ships the exact all-pairs
+//! reference it is tested against.
 //!
 //! # Contents
 //!
@@ -14,6 +14,9 @@
 //! - [`geom`], [`motion`]: exact predicates and certificate functions.
 //! - [`hier`]: the per-polygon hierarchy of outer approximations (static).
 //! - [`sim`]: the event queue; [`world`]: bodies, flight plans, collision policy.
+//! - [`structure`]: the kinetic separation structure (construction,
+//!   certificates, local operations, local repair, pops and merges of the
+//!   approximations, audit); [`runner`]: the engines behind [`run`].
 //! - [`brute`]: the all-pairs reference; [`render`]: SVG pictures.
 //!
 //! # Should I use this?
@@ -70,6 +73,12 @@
 //!   concave chains; each corridor holds at most two.
 //! - **approximation vertex**: a vertex of a polygon's coarse outer
 //!   approximation (intersection of two supporting lines) in the hierarchy.
+//! - **pop / merge**: refining an approximation by one level where two
+//!   approximations touch (an event), and coarsening it again where the
+//!   polygons have moved apart.
+//! - **local repair**: triangulating again only the region around a few
+//!   polygons, for just after a degenerate instant that the local
+//!   operations cannot resolve (instead of rebuilding everything).
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
