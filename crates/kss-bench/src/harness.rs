@@ -422,8 +422,16 @@ fn run_child(
         Ok(c) => c,
         Err(e) => return CellOutcome::not_run(Status::Error(format!("cannot start: {e}"))),
     };
-    // generous room for building large scenes before the method starts
-    let limit = Duration::from_secs_f64(budget_seconds * 1.2 + 10.0);
+    // generous room for building large scenes before the method starts;
+    // with `build_time` the child first runs the construction alone, which
+    // can take as long as the measured run (brute's first all-pairs pass
+    // is most of its run): room for both, or a cell that finishes within
+    // its budget is killed (brute on 10^4 octagons, session 14)
+    let limit = if build_time {
+        Duration::from_secs_f64(budget_seconds * 2.4 + 20.0)
+    } else {
+        Duration::from_secs_f64(budget_seconds * 1.2 + 10.0)
+    };
     let start = Instant::now();
     let exit = loop {
         match child.try_wait() {
