@@ -28,7 +28,8 @@
 //! shrunk copy of the region, or from a region grown by two polygons
 //! whose corridor is degenerate at the same instant, or after the
 //! collision response of an instant at which the local operations failed,
-//! or at an instant whose hull is convex just after the contact; local
+//! or at an instant whose hull is convex just after the contact, or grown
+//! past a boundary bridge that the region's polygons cross; local
 //! operations that cycle at one instant).
 //! Each must give byte-identical
 //! output with `brute`, `plain --audit` and `hierarchical --audit`.
@@ -146,7 +147,11 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// structures. And a repair whose triangulation, at the instant tried, had
 /// a hull that is not convex just after the contact: the instant is now
 /// refused before the splice (two polygons, `gen_small simultaneous 4187`;
-/// the splice found the hull turn failing at once and rebuilt).
+/// the splice found the hull turn failing at once and rebuilt). And a
+/// region whose boundary bridge (between two polygons outside it) a polygon
+/// of the region crosses at once, the triangle beyond inverted just after
+/// the instant: the region grows by those two polygons (from `gen_small
+/// grazing 2447`; its constraints crossed at every instant tried).
 #[test]
 fn settled_contacts_are_repaired_locally() {
     for name in [
@@ -159,6 +164,7 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_grown_by_a_neighbouring_degeneracy.json",
         "local_repair_after_failed_operations_and_a_response.json",
         "local_repair_hull_turn_checked_just_after.json",
+        "local_repair_grown_past_a_crossed_bridge.json",
     ] {
         let v = stats_of(name, "plain");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");

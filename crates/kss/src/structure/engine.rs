@@ -988,8 +988,27 @@ impl Kinetic {
                 let at_t = Time::from_rational(at.clone());
                 let plan = match self.kss.retriangulation_plan(world, &set, &at) {
                     Ok(plan) => plan,
-                    Err(_e) => {
-                        trace!("repair around {set:?} at {}: {_e}", at_t.to_f64());
+                    Err(e) => {
+                        trace!(
+                            "repair around {set:?} at {}: {e} (grow by {:?})",
+                            at_t.to_f64(),
+                            e.grow
+                        );
+                        // (a boundary bridge crossed by the set at once: the
+                        // set is tried again with its bodies, as below)
+                        if !e.grow.is_empty() && rounds < 2 {
+                            let mut bigger = set.clone();
+                            bigger.extend(e.grow);
+                            bigger.sort();
+                            if !sets.iter().any(|x| {
+                                let mut x = x.clone();
+                                x.sort();
+                                x == bigger
+                            }) {
+                                sets.push(bigger);
+                                grown.push(rounds + 1);
+                            }
+                        }
                         hi_b = at_t;
                         continue;
                     }

@@ -74,6 +74,38 @@ impl RemovalPlan {
     }
 }
 
+/// Why a region has no plan ([`Kss::retriangulation_plan`]), and the bodies
+/// outside the set that the region should take in to have one (a bridge of
+/// its boundary that crosses a polygon of the set names its two bodies).
+#[derive(Clone, Debug, Default)]
+pub struct PlanError {
+    /// What failed.
+    pub reason: String,
+    /// Bodies to add to the set and try again (empty: none known).
+    pub grow: Vec<BodyId>,
+}
+
+impl From<String> for PlanError {
+    fn from(reason: String) -> PlanError {
+        PlanError {
+            reason,
+            grow: Vec::new(),
+        }
+    }
+}
+
+impl From<&str> for PlanError {
+    fn from(reason: &str) -> PlanError {
+        PlanError::from(reason.to_string())
+    }
+}
+
+impl std::fmt::Display for PlanError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.reason)
+    }
+}
+
 /// What [`Kss::apply_removal`] did: the ids of the new triangles and
 /// corridors, and the ones that were moved to fill the freed slots
 /// (`(from, to)`, applied in order).
@@ -104,6 +136,7 @@ impl Kss {
             return Err(format!("{alive} bodies stay"));
         }
         self.region_plan(world, &[p], t, false)
+            .map_err(|e| e.reason)
     }
 
     /// Plan a *local retriangulation* around the bodies `set` (alive in
@@ -123,7 +156,7 @@ impl Kss {
         world: &Geo,
         set: &[BodyId],
         at: &Rational,
-    ) -> Result<RemovalPlan, String> {
+    ) -> Result<RemovalPlan, PlanError> {
         self.region_plan(world, set, at, true)
     }
 
@@ -170,7 +203,7 @@ impl Kss {
         set: &[BodyId],
         t: &Rational,
         keep: bool,
-    ) -> Result<RemovalPlan, String> {
+    ) -> Result<RemovalPlan, PlanError> {
         let ti = t.interval();
         let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
         let dead_tris: Vec<TriId> = (0..self.tris.len())
@@ -202,7 +235,7 @@ impl Kss {
                 let kc = &self.corrs[k.0 as usize];
                 let at_s = kc.s == (tri, j as u8);
                 if !at_s && kc.t != (tri, j as u8) {
-                    return Err(format!("corridor {k:?} does not end at triangle {tri:?}"));
+                    return Err(format!("corridor {k:?} does not end at triangle {tri:?}").into());
                 }
                 if portal.insert((y, x), (k, at_s)).is_some() {
                     return Err("two bridges on one side".into());
@@ -296,8 +329,27 @@ impl Kss {
         let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
         let mut tris: Vec<[usize; 3]> = Vec::new();
         if atts.len() >= 3 {
+            // polygon edges first and bridges last, so that a bridge that
+            // crosses a polygon is the constraint reported
             let mut edges: Vec<[usize; 2]> = constraints.iter().map(|&(x, y)| [x, y]).collect();
-            edges.sort_unstable();
+            edges.sort_unstable_by_key(|&[x, y]| (atts[x].obj != atts[y].obj, x, y));
+            // a crossing constraint names bodies outside the set to grow it
+            // by (a bridge of the region's boundary that a polygon of the
+            // set crosses at once: its triangle beyond is inverted just
+            // after `t`, a failure of this instant still queued)
+            let grow = |conflicts: &[[usize; 2]]| -> Vec<BodyId> {
+                let mut out: Vec<BodyId> = conflicts
+                    .iter()
+                    .flatten()
+                    .filter_map(|&x| match atts[x].obj {
+                        Obj::Body(b) if !set.contains(&b) => Some(b),
+                        _ => None,
+                    })
+                    .collect();
+                out.sort();
+                out.dedup();
+                out
+            };
             // the orientation a triangle takes where it is flat exactly
             let mut flat_sign: HashMap<[usize; 3], Sign> = HashMap::new();
             let faces = match local_cdt(&approx, &edges) {
@@ -307,9 +359,12 @@ impl Kss {
                 // the combinatorics come from a copy of the region with
                 // every polygon shrunk a little towards a point inside it
                 // (as the construction does), and are checked exactly below
-                Err(first) => {
+                Err((reason, conflicts)) => {
                     let shrunk = self.shrunk_copy(world, &atts, &approx, t);
-                    let faces = local_cdt(&shrunk, &edges).map_err(|_| first)?;
+                    let faces = local_cdt(&shrunk, &edges).map_err(|_| PlanError {
+                        grow: grow(&conflicts),
+                        reason,
+                    })?;
                     let rounded: Vec<Point> = shrunk
                         .iter()
                         .map(|&f| Point::from_f64(f).expect("finite"))
@@ -445,7 +500,8 @@ impl Kss {
                 "{} new triangles for {} removed",
                 new_tris.len(),
                 dead_tris.len()
-            ));
+            )
+            .into());
         }
         // walk the corridors: from every side of a new triangle, and from
         // the far end of every merged corridor that stays
@@ -498,7 +554,7 @@ impl Kss {
                 }
                 if let Some((k, at_s)) = through.take() {
                     if !used.insert(k) {
-                        return Err(format!("corridor {k:?} merged twice"));
+                        return Err(format!("corridor {k:?} merged twice").into());
                     }
                     let c = &self.corrs[k.0 as usize];
                     let (a_s, b_s, a_t, b_t) = self.ends(k);
@@ -556,7 +612,8 @@ impl Kss {
                 "{} new corridors for {} removed",
                 new_corrs.len(),
                 dead_corrs.len()
-            ));
+            )
+            .into());
         }
         let mut new_tri_corr = vec![[usize::MAX; 3]; new_tris.len()];
         let mut far = Vec::new();
@@ -732,24 +789,27 @@ impl Kss {
     }
 }
 
+/// Why [`local_cdt`] failed, and the constraints reported crossing others.
+type CdtError = (String, Vec<[usize; 2]>);
+
 /// The triangles (vertex triples, counter-clockwise in doubles) of the
 /// constrained Delaunay triangulation of `pts` with the constraint `edges`;
 /// an error when the doubles make it differ from the constraints (two of
 /// them cross, two vertices coincide, or a constraint passes through a
 /// vertex).
-fn local_cdt(pts: &[[f64; 2]], edges: &[[usize; 2]]) -> Result<Vec<[usize; 3]>, String> {
+fn local_cdt(pts: &[[f64; 2]], edges: &[[usize; 2]]) -> Result<Vec<[usize; 3]>, CdtError> {
     let points: Vec<Point2<f64>> = pts.iter().map(|f| Point2::new(f[0], f[1])).collect();
-    let mut conflict = false;
+    let mut conflicts: Vec<[usize; 2]> = Vec::new();
     let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, edges.to_vec(), |_| {
-            conflict = true
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, edges.to_vec(), |e| {
+            conflicts.push(e)
         })
-        .map_err(|e| format!("{e:?}"))?;
-    if conflict {
-        return Err("constraints cross after rounding".into());
+        .map_err(|e| (format!("{e:?}"), Vec::new()))?;
+    if !conflicts.is_empty() {
+        return Err(("constraints cross after rounding".into(), conflicts));
     }
     if cdt.num_vertices() != pts.len() {
-        return Err("vertices coincide after rounding".into());
+        return Err(("vertices coincide after rounding".into(), Vec::new()));
     }
     // a constraint through a vertex is split by spade without a conflict:
     // the flood fill would cross it
@@ -758,7 +818,10 @@ fn local_cdt(pts: &[[f64; 2]], edges: &[[usize; 2]]) -> Result<Vec<[usize; 3]>, 
         .iter()
         .any(|&[x, y]| !cdt.exists_constraint(fix(x), fix(y)))
     {
-        return Err("a constraint passes through a vertex after rounding".into());
+        return Err((
+            "a constraint passes through a vertex after rounding".into(),
+            Vec::new(),
+        ));
     }
     Ok(cdt
         .inner_faces()
