@@ -68,8 +68,21 @@ pub enum Perturbed {
     Yes,
 }
 
-/// The relative shrink factors tried, in order.
-const SHRINKS: [f64; 3] = [
+/// The orientation a triangle of a triangulation computed on a *shrunk*
+/// copy takes: its exact orientation `exact`, or, where that is zero (a
+/// triangle flat between two polygons in contact), the shrunk copy's
+/// `shrunk` (exact on its doubles); `None` where the two disagree (the
+/// shrinking turned the triangle over: the triangulation is not valid).
+pub(super) fn shrunk_orientation(exact: Sign, shrunk: Sign) -> Option<Sign> {
+    match exact {
+        Sign::Zero => Some(shrunk),
+        s => (s == shrunk).then_some(s),
+    }
+}
+
+/// The relative shrink factors tried, in order (the local repair uses the
+/// first).
+pub(super) const SHRINKS: [f64; 3] = [
     1.0 / (1u64 << 26) as f64,
     1.0 / (1u64 << 18) as f64,
     1.0 / (1u64 << 34) as f64,
@@ -142,15 +155,16 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
     let mut tris: Vec<[usize; 3]> = Vec::with_capacity(raw.len());
     let mut directed: HashMap<(usize, usize), ()> = HashMap::new();
     for [u, v, w] in raw {
-        let sign = match orient(&exact[u], &exact[v], &exact[w]) {
-            Sign::Zero if shrink.is_some() => orient(&rounded[u], &rounded[v], &rounded[w]),
-            s => s,
+        let sign = orient(&exact[u], &exact[v], &exact[w]);
+        let sign = match shrink {
+            None => sign,
+            Some(_) => shrunk_orientation(sign, orient(&rounded[u], &rounded[v], &rounded[w]))
+                .ok_or_else(|| {
+                    BuildError::Rounding(
+                        "the shrunk triangulation is not valid with exact coordinates".into(),
+                    )
+                })?,
         };
-        if shrink.is_some() && sign != orient(&rounded[u], &rounded[v], &rounded[w]) {
-            return Err(BuildError::Rounding(
-                "the shrunk triangulation is not valid with exact coordinates".into(),
-            ));
-        }
         let tri = match sign {
             Sign::Positive => [u, v, w],
             Sign::Negative => [u, w, v],

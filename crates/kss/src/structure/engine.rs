@@ -232,6 +232,33 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     p.failure_after_positive(now)
 }
 
+/// The local repair's candidate sets ([`Kinetic::repair_around`]): queue
+/// `set` grown by the bodies `more` (with the number of growth rounds that
+/// led to it), unless `more` is empty, `set` was grown twice already, or
+/// the same set (in any order) is queued.
+fn grow_sets(
+    sets: &mut Vec<Vec<BodyId>>,
+    grown: &mut Vec<u8>,
+    (set, rounds): (&[BodyId], u8),
+    more: Vec<BodyId>,
+) {
+    if more.is_empty() || rounds >= 2 {
+        return;
+    }
+    let mut bigger = set.to_vec();
+    bigger.extend(more);
+    bigger.sort();
+    let queued = sets.iter().any(|x| {
+        let mut x = x.clone();
+        x.sort();
+        x == bigger
+    });
+    if !queued {
+        sets.push(bigger);
+        grown.push(rounds + 1);
+    }
+}
+
 /// How many handled certificates [`Kinetic::repair_cycle`] looks back at.
 const RECENT: usize = 8;
 
@@ -996,19 +1023,7 @@ impl Kinetic {
                         );
                         // (a boundary bridge crossed by the set at once: the
                         // set is tried again with its bodies, as below)
-                        if !e.grow.is_empty() && rounds < 2 {
-                            let mut bigger = set.clone();
-                            bigger.extend(e.grow);
-                            bigger.sort();
-                            if !sets.iter().any(|x| {
-                                let mut x = x.clone();
-                                x.sort();
-                                x == bigger
-                            }) {
-                                sets.push(bigger);
-                                grown.push(rounds + 1);
-                            }
-                        }
+                        grow_sets(&mut sets, &mut grown, (&set, rounds), e.grow);
                         hi_b = at_t;
                         continue;
                     }
@@ -1044,19 +1059,7 @@ impl Kinetic {
                             _ => None,
                         })
                         .collect();
-                    if !more.is_empty() && rounds < 2 {
-                        let mut bigger = set.clone();
-                        bigger.extend(more);
-                        bigger.sort();
-                        if !sets.iter().any(|x| {
-                            let mut x = x.clone();
-                            x.sort();
-                            x == bigger
-                        }) {
-                            sets.push(bigger);
-                            grown.push(rounds + 1);
-                        }
-                    }
+                    grow_sets(&mut sets, &mut grown, (&set, rounds), more);
                     hi_b = at_t;
                     continue;
                 }

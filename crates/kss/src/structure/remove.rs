@@ -25,7 +25,7 @@ use std::collections::{HashMap, HashSet};
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use super::build::{cross_two_object_face, is_partition};
+use super::build::{cross_two_object_face, is_partition, shrunk_orientation, SHRINKS};
 use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
 use crate::geom::{orient, Point};
@@ -172,7 +172,7 @@ impl Kss {
         approx: &[[f64; 2]],
         t: &Rational,
     ) -> Vec<[f64; 2]> {
-        const EPS: f64 = 1.0 / (1u64 << 26) as f64;
+        let eps = SHRINKS[0];
         let mut centre: HashMap<BodyId, [f64; 2]> = HashMap::new();
         atts.iter()
             .zip(approx)
@@ -189,7 +189,7 @@ impl Kss {
                         (pts[0][1] + pts[1][1] + pts[2][1]) / 3.0,
                     ]
                 });
-                [x + EPS * (c[0] - x), y + EPS * (c[1] - y)]
+                [x + eps * (c[0] - x), y + eps * (c[1] - y)]
             })
             .collect()
     }
@@ -350,10 +350,9 @@ impl Kss {
                 out.dedup();
                 out
             };
-            // the orientation a triangle takes where it is flat exactly
-            let mut flat_sign: HashMap<[usize; 3], Sign> = HashMap::new();
-            let faces = match local_cdt(&approx, &edges) {
-                Ok(faces) => faces,
+            // (with the shrunk copy's points where that was triangulated)
+            let (faces, shrunk) = match local_cdt(&approx, &edges) {
+                Ok(faces) => (faces, None),
                 // polygons that touch at `t` (one sliding along another's
                 // edge, a vertex on an edge) put a vertex on a constraint:
                 // the combinatorics come from a copy of the region with
@@ -369,31 +368,21 @@ impl Kss {
                         .iter()
                         .map(|&f| Point::from_f64(f).expect("finite"))
                         .collect();
-                    // a triangle that is flat exactly (between two polygons
-                    // in contact) takes the shrunk copy's orientation (a
-                    // partition triangle that is flat does not hold just
-                    // after `t` and is refused by the caller; a corridor's
-                    // is checked by its decomposition); one that the
-                    // shrinking turned over is not valid
-                    for &[u, v, w] in &faces {
-                        let shrunk_sign = orient(&rounded[u], &rounded[v], &rounded[w]);
-                        match orient_exact(u, v, w) {
-                            Sign::Zero => {
-                                flat_sign.insert([u, v, w], shrunk_sign);
-                            }
-                            s if s != shrunk_sign => {
-                                return Err("the shrunk triangulation is not valid exactly".into());
-                            }
-                            _ => {}
-                        }
-                    }
-                    faces
+                    (faces, Some(rounded))
                 }
             };
+            // every triangle oriented exactly; from the shrunk copy, one
+            // that is flat exactly (between two polygons in contact) takes
+            // the copy's orientation (a partition triangle that is flat does
+            // not hold just after `t` and is refused by the caller; a
+            // corridor's is checked by its decomposition), and one that the
+            // shrinking turned over makes the plan invalid
             for [u, v, w] in faces {
-                let sign = match orient_exact(u, v, w) {
-                    Sign::Zero => flat_sign.get(&[u, v, w]).copied().unwrap_or(Sign::Zero),
-                    s => s,
+                let sign = orient_exact(u, v, w);
+                let sign = match &shrunk {
+                    None => sign,
+                    Some(r) => shrunk_orientation(sign, orient(&r[u], &r[v], &r[w]))
+                        .ok_or("the shrunk triangulation is not valid exactly")?,
                 };
                 let tri = match sign {
                     Sign::Positive => [u, v, w],
