@@ -204,6 +204,30 @@ fn local_operations_that_cycle_are_repaired_locally() {
     }
 }
 
+/// A polygon slides along a fixed one and its plan stops it with a vertex
+/// on the other's vertex (minimized from `gen_small simultaneous 644`):
+/// the corridor between them is pinched there and had no decomposition, so
+/// the reference stood in for the rest of the run. The bridge of length
+/// zero between the two resting vertices is now the corridor's middle
+/// bridge. The same contact then left (a plan change takes the polygon
+/// away) and pushed together (a plan change drives it into the other, a
+/// collision at once): the corridor's two junctions at the bridge take
+/// over again at the plan change. Both structures, no stand-in.
+#[test]
+fn a_vertex_resting_on_a_vertex_is_a_bridge_of_length_zero() {
+    for name in [
+        "resting_vertex_on_vertex_inside_a_corridor.json",
+        "resting_vertex_on_vertex_then_apart.json",
+        "resting_vertex_on_vertex_then_pushed_together.json",
+    ] {
+        for structure in ["plain", "hierarchical"] {
+            let v = stats_of(name, structure);
+            assert_eq!(v["stand_ins"], 0, "{name} {structure}: {v}");
+            assert_eq!(v["degenerate_rebuilds"], 0, "{name} {structure}: {v}");
+        }
+    }
+}
+
 /// `gen_small gas 369`: a pop whose every candidate inverts a partition
 /// triangle at the popped vertex; the structure follows in place with an ear
 /// slide after the pop (`crates/kss/src/structure/pop.rs`) instead of a rebuild, which

@@ -85,6 +85,8 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     let mut repairs = 0u64;
     let mut with_events = 0usize;
     let mut failures = Vec::new();
+    // the seeds that needed a global rebuild or the reference's stand-in
+    let mut fallbacks: Vec<String> = Vec::new();
     // runs that ended with an error, and runs that finished with other
     // events than the reference's (the worse kind: a silent disagreement)
     let (mut errors, mut disagreements) = (0usize, 0usize);
@@ -95,6 +97,14 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
             let got = events(&s, structure, true).map(|(got, stats)| {
                 rebuilds += stats.degenerate_rebuilds;
                 stand_ins += stats.stand_ins;
+                if stats.stand_ins > 0 || stats.degenerate_rebuilds > 0 {
+                    fallbacks.push(format!(
+                        "{} seed {seed}: {} rebuilds, {} stand-ins",
+                        family.name(),
+                        stats.degenerate_rebuilds,
+                        stats.stand_ins
+                    ));
+                }
                 repairs += stats.local_repairs;
                 got
             });
@@ -130,6 +140,9 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     failures.sort_by_key(|f| f.contains("internal error"));
     for f in failures.iter().take(30) {
         eprintln!("  {f}");
+    }
+    for f in fallbacks.iter().take(40) {
+        eprintln!("  fallback: {f}");
     }
     assert!(failures.is_empty());
     // the reference stands in only where polygons rest in contact, which

@@ -152,15 +152,24 @@ impl Kss {
                 continue;
             }
             for face in self.corridor_faces(world, k) {
-                let n = face.len();
-                if n < 3 {
+                if face.len() < 3 {
                     continue; // an empty corridor
                 }
+                // a polygon vertex between two of its own is a chain
+                // interior, reflex for ever; the others are junctions,
+                // their turns taken around the face's places (a middle
+                // bridge between two vertices resting on each other has
+                // length zero: its two ends are one corner)
+                let places = super::faces::resting_places(world, &face);
+                let (n, m) = (places.len(), face.len());
                 for x in 0..n {
-                    let (u, v, w) = (face[(x + n - 1) % n], face[x], face[(x + 1) % n]);
-                    if u.obj == v.obj && v.obj == w.obj {
+                    let at = places[x];
+                    let v = face[at];
+                    let (u0, w0) = (face[(at + m - 1) % m], face[(at + 1) % m]);
+                    if u0.obj == v.obj && v.obj == w0.obj {
                         continue; // chain interior: reflex for ever
                     }
+                    let (u, w) = (face[places[(x + n - 1) % n]], face[places[(x + 1) % n]]);
                     let p = [u, v, w];
                     let sign = classify(p);
                     if sign != Sign::Zero {

@@ -650,6 +650,11 @@ impl Kinetic {
         // wrong, and the certificates, which keep the signs the structure
         // read, would not notice: such a corridor is normalized again.
         let reshape = self.straight_now(world, &touched, now);
+        // A middle bridge between two vertices that rest on each other has
+        // length zero, its corner the two ends' together; under the new
+        // motions they may part, and the corridor's certificates are then
+        // its two junctions again.
+        let resting = self.resting_now(world, &touched, now);
         for p in touched {
             let Some(s) = self.certs.get(&p) else {
                 continue;
@@ -708,11 +713,29 @@ impl Kinetic {
             }
         }
         // (not when the structure is about to be rebuilt anyway)
-        let reshape = if self.broken.is_some() {
-            BTreeSet::new()
+        let (reshape, resting) = if self.broken.is_some() {
+            (BTreeSet::new(), BTreeSet::new())
         } else {
-            reshape
+            (reshape, resting)
         };
+        for &k in &resting {
+            let mid = self.kss.corrs[k.0 as usize].mid;
+            let due = self.owned_corr[k.0 as usize].iter().any(|p| {
+                self.certs
+                    .get(p)
+                    .is_some_and(|s| self.due_now(p, s.key, now))
+            });
+            if due || reshape.contains(&k) {
+                continue;
+            }
+            // (its certificates are the corner's, not the two junctions'
+            // that must now hold: without a decomposition the structure
+            // cannot go on from here)
+            if !self.kss.faces_valid(world, k, mid, now) {
+                self.kss.normalize(world, k, now, None)?;
+            }
+            self.refresh(world, Owner::Corr(k), now)?;
+        }
         for k in reshape {
             let mid = self.kss.corrs[k.0 as usize].mid;
             // (a corridor with a failure still due at this instant is left to
@@ -791,6 +814,35 @@ impl Kinetic {
                     if self.kss.corrs[k.0 as usize].b != Obj::Omega {
                         out.insert(k);
                     }
+                }
+            }
+        }
+        out
+    }
+
+    /// The corridors among the owners of certificates `ps` whose middle
+    /// bridge's two ends are at one place at `now`.
+    fn resting_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
+        let mut out = BTreeSet::new();
+        for p in ps {
+            let Some(s) = self.certs.get(p) else {
+                continue;
+            };
+            for o in &s.owners {
+                let Owner::Corr(k) = *o else { continue };
+                let c = &self.kss.corrs[k.0 as usize];
+                let Some((i, j)) = c.mid else { continue };
+                if c.b == Obj::Omega || out.contains(&k) {
+                    continue;
+                }
+                let (a_s, _, _, b_t) = self.kss.ends(k);
+                let (x, y) = (world.cw(a_s, i), world.cw(b_t, j));
+                if world.dot_filtered(y, x, y, now.interval()).is_some() {
+                    continue;
+                }
+                let d = crate::motion::dot_poly(&world.point(x), &world.point(y), &world.point(y));
+                if d.sign_at(now) == Sign::Zero {
+                    out.insert(k);
                 }
             }
         }

@@ -130,6 +130,47 @@ fn lin(world: &Geo, a: Att) -> crate::motion::LinearPoint {
     }
 }
 
+/// Whether `x` and `y`, on two bodies, stay at one place for the whole
+/// current motion: a vertex resting on a vertex of another polygon (their
+/// bodies move alike). A bridge between them has length zero; the face
+/// corner there is the one between the two polygons' edges.
+pub fn coincide_forever(world: &Geo, x: Att, y: Att) -> bool {
+    if x.obj == y.obj || x.is_omega() || y.is_omega() {
+        return false;
+    }
+    if let (Some(ex), Some(ey)) = (world.enclose_linear(x), world.enclose_linear(y)) {
+        if ex.iter().zip(&ey).any(|(a, b)| !a.overlaps(b)) {
+            return false;
+        }
+    }
+    let (p, q) = (lin(world, x), lin(world, y));
+    crate::motion::dot_poly(&p, &q, &q).is_zero()
+}
+
+/// The positions in a face cycle of its places: every vertex but one that
+/// rests on the vertex before it ([`coincide_forever`]), which is the same
+/// corner of the face.
+pub fn resting_places(world: &Geo, face: &[Att]) -> Vec<usize> {
+    let n = face.len();
+    let keep: Vec<usize> = (0..n)
+        .filter(|&x| n < 3 || !coincide_forever(world, face[(x + n - 1) % n], face[x]))
+        .collect();
+    if keep.is_empty() {
+        vec![0]
+    } else {
+        keep
+    }
+}
+
+/// A face cycle with each vertex that rests on the vertex before it left
+/// out ([`resting_places`]): the face's corners as they are.
+pub fn collapse_resting(world: &Geo, face: &[Att]) -> Vec<Att> {
+    resting_places(world, face)
+        .into_iter()
+        .map(|x| face[x])
+        .collect()
+}
+
 /// Whether `x` and `y` are the two ends of one polygon edge.
 pub fn poly_edge(world: &Geo, x: Att, y: Att) -> bool {
     x.obj == y.obj && !x.is_omega() && (step_ccw(world, x) == y || step_ccw(world, y) == x)
@@ -186,6 +227,9 @@ impl Kss {
                 }
             }
             for (fi, face) in self.corridor_faces(world, k).iter().enumerate() {
+                // (a middle bridge between two vertices resting on each other
+                // has length zero: its two ends are one corner)
+                let face = collapse_resting(world, face);
                 let n = face.len();
                 if n < 3 {
                     if n == 2 && self.corrs[ki].len_a == 0 && self.corrs[ki].len_b == 0 {

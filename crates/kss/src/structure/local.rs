@@ -9,7 +9,7 @@
 //! the certificates of the few corridors and triangles it changes.
 
 use super::certs::{order_cert, Cert, CertKind};
-use super::faces::{step_ccw, step_cw, turn_after};
+use super::faces::{coincide_forever, step_ccw, step_cw, turn_after};
 use super::geo::Geo;
 use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::dot_poly;
@@ -44,6 +44,10 @@ pub struct Junction {
     /// The edge `(v, next)`.
     pub out_edge: EdgeRef,
 }
+
+/// A corner of a corridor face ([`Kss::corners_with`]): its junction, and
+/// the end of a bridge of length zero merged into it, if any.
+type Corner = (Junction, Option<Att>);
 
 /// A piece of chain in face order: from `start` clockwise over `len` edges.
 #[derive(Clone, Copy, Debug)]
@@ -283,6 +287,79 @@ impl Kss {
             .collect()
     }
 
+    /// [`Kss::junctions_with`] as corners: where the middle bridge's two
+    /// ends rest on each other ([`coincide_forever`]: a vertex on a vertex,
+    /// a bridge of length zero), the two junctions at it are one corner,
+    /// `(prev, α, next)` of the one that leaves the bridge and the one
+    /// that enters it, paired with the end left out (which the face's other
+    /// junctions then name by the end kept, as the face's cycle of places does).
+    fn corners_with(
+        &self,
+        world: &Geo,
+        k: CorrId,
+        mid: Option<(u32, u32)>,
+    ) -> Vec<Option<Vec<Corner>>> {
+        let resting = mid.is_some_and(|(i, j)| {
+            let (a_s, _, _, b_t) = self.ends(k);
+            coincide_forever(world, step_cw(world, a_s, i), step_cw(world, b_t, j))
+        });
+        self.junctions_with(world, k, mid)
+            .into_iter()
+            .map(|face| {
+                face.map(|js| {
+                    let n = js.len();
+                    let at = (0..n).find(|&x| {
+                        resting
+                            && js[x].out_edge == EdgeRef::Mid
+                            && js[(x + 1) % n].in_edge == EdgeRef::Mid
+                    });
+                    let Some(x) = at else {
+                        return js.into_iter().map(|j| (j, None)).collect();
+                    };
+                    let (j1, j2) = (js[x], js[(x + 1) % n]);
+                    let corner = Junction {
+                        prev: j1.prev,
+                        v: j1.v,
+                        next: j2.next,
+                        in_edge: j1.in_edge,
+                        out_edge: j2.out_edge,
+                    };
+                    // (the face's other junctions name the corner by the
+                    // end kept, as the face's cycle of places does)
+                    let named = |a: Att| if a == j2.v { j1.v } else { a };
+                    (0..n)
+                        .filter(|&y| y != (x + 1) % n)
+                        .map(|y| {
+                            if y == x {
+                                (corner, Some(j2.v))
+                            } else {
+                                let j = js[y];
+                                let j = Junction {
+                                    prev: named(j.prev),
+                                    next: named(j.next),
+                                    ..j
+                                };
+                                (j, None)
+                            }
+                        })
+                        .collect()
+                })
+            })
+            .collect()
+    }
+
+    /// The corners of corridor `k` as it stands ([`Kss::corners_with`]),
+    /// all faces together: what its junction certificates are made of.
+    pub fn corners(&self, world: &Geo, k: CorrId) -> Vec<Junction> {
+        let mid = self.corrs[k.0 as usize].mid;
+        self.corners_with(world, k, mid)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|(j, _)| j)
+            .collect()
+    }
+
     /// Whether every face of corridor `k` with middle bridge `mid` is a
     /// pseudo-triangle just after `t`: three convex junctions, the others
     /// reflex or straight for ever (chain interiors are reflex for ever).
@@ -332,7 +409,7 @@ impl Kss {
             }
         }
         let shapes = self.faces_with(world, k, mid);
-        for (fi, face) in self.junctions_with(world, k, mid).into_iter().enumerate() {
+        for (fi, face) in self.corners_with(world, k, mid).into_iter().enumerate() {
             let Some(js) = face else {
                 // a face with two vertices: only an empty corridor has one
                 if c.len_a == 0 && c.len_b == 0 {
@@ -342,9 +419,22 @@ impl Kss {
             };
             let mut convex = 0;
             let mut all_zero = true;
-            for j in &js {
+            for (j, rest) in &js {
+                // a face with two places (a resting corner with a single
+                // vertex opposite) is no pseudo-triangle
+                if rest.is_some() && j.prev == j.next {
+                    return false;
+                }
                 let s = sign(j);
                 all_zero &= s == Sign::Zero;
+                // the end of a bridge of length zero left out of the corner
+                // keeps its polygon out of the face too
+                if let Some(r) = rest {
+                    let other = Junction { v: *r, ..*j };
+                    if clear && !junction_clear(world, &other, s, t, side) {
+                        return false;
+                    }
+                }
                 // a junction must also keep its polygon out of the face (a
                 // pseudo-triangle's sign pattern alone allows a face that
                 // wraps around a vertex); not checked when some signs are
@@ -466,7 +556,7 @@ impl Kss {
                 }
             }
         } else {
-            for j in self.junctions(world, k) {
+            for j in self.corners(world, k) {
                 let mut sign = turn(world, j.prev, j.v, j.next, t);
                 if flipped.contains(&[j.prev, j.v, j.next]) {
                     sign = sign.neg();
@@ -613,8 +703,8 @@ impl Kss {
         m: Option<(u32, u32)>,
         t: &Time,
     ) -> Option<Vec<[Att; 3]>> {
-        let faces = self.junctions_with(world, k, m);
-        let js: Vec<Junction> = faces.iter().flatten().flatten().copied().collect();
+        let faces = self.corners_with(world, k, m);
+        let js: Vec<Junction> = faces.iter().flatten().flatten().map(|(j, _)| *j).collect();
         let zero: Vec<usize> = (0..js.len())
             .filter(|&x| {
                 let j = js[x];
@@ -704,6 +794,58 @@ impl Kss {
         } else if self.faces_valid_on(world, k, None, t, side) {
             self.corrs[ki].mid = None;
             return Some(1);
+        }
+        // two chains that rest on each other at a vertex pinch the corridor
+        // there: the bridge of length zero between those vertices
+        if let Some(m) = self.resting_bridge(world, k, t) {
+            if Some(m) != mid && self.faces_valid_on(world, k, Some(m), t, side) {
+                self.corrs[ki].mid = Some(m);
+                return Some(1);
+            }
+        }
+        None
+    }
+
+    /// A middle bridge `(i, j)` of corridor `k` whose two ends rest on each
+    /// other ([`coincide_forever`]), if its chains touch that way. Tried
+    /// only when no other decomposition holds: `O(len_a · len_b)` f64
+    /// comparisons, exact ones only where the enclosures overlap.
+    fn resting_bridge(&self, world: &Geo, k: CorrId, t: &Time) -> Option<(u32, u32)> {
+        let c = &self.corrs[k.0 as usize];
+        let (len_a, len_b) = (c.len_a, c.len_b);
+        if c.b == Obj::Omega || len_a == 0 || len_b == 0 {
+            return None;
+        }
+        let (a_s, _, _, b_t) = self.ends(k);
+        let tiv = t.interval();
+        let a: Vec<(Att, Option<[crate::num::Interval; 2]>)> = (0..=len_a)
+            .map(|i| {
+                let x = step_cw(world, a_s, i);
+                (x, world.enclose(x, tiv))
+            })
+            .collect();
+        let b: Vec<(Att, Option<[crate::num::Interval; 2]>)> = (0..=len_b)
+            .map(|j| {
+                let y = step_cw(world, b_t, j);
+                (y, world.enclose(y, tiv))
+            })
+            .collect();
+        for (i, (x, ex)) in a.iter().enumerate() {
+            for (j, (y, ey)) in b.iter().enumerate() {
+                let (i, j) = (i as u32, j as u32);
+                // (the end bridges are not middle bridges)
+                if (i == 0 && j == len_b) || (i == len_a && j == 0) {
+                    continue;
+                }
+                if let (Some(ex), Some(ey)) = (ex, ey) {
+                    if !ex[0].overlaps(&ey[0]) || !ex[1].overlaps(&ey[1]) {
+                        continue;
+                    }
+                }
+                if coincide_forever(world, *x, *y) {
+                    return Some((i, j));
+                }
+            }
         }
         None
     }
