@@ -152,7 +152,7 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
         if generic {
             stand_ins == 0
         } else {
-            stand_ins * 200 <= total as u64
+            stand_ins * 1000 <= total as u64
         },
         "{stand_ins} stand-ins of the reference in {total} scenarios"
     );
