@@ -227,6 +227,14 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     }
     let p = cert_poly(world, c);
     if p.sign_after(now) != Sign::Positive {
+        // (a partition triangle flat while two of its corners rest on each
+        // other holds until a motion change parts them)
+        if p.is_zero()
+            && c.kind == super::certs::CertKind::Triangle
+            && super::faces::flat_while_resting(world, c.p)
+        {
+            return None;
+        }
         return Some(now.clone());
     }
     p.failure_after_positive(now)
@@ -650,7 +658,7 @@ impl Kinetic {
         // wrong, and the certificates, which keep the signs the structure
         // read, would not notice: such a corridor is normalized again.
         let reshape = self.straight_now(world, &touched, now);
-        // A middle bridge between two vertices that rest on each other has
+        // A bridge (an end or the middle one) between two vertices that rest on each other has
         // length zero, its corner the two ends' together; under the new
         // motions they may part, and the corridor's certificates are then
         // its two junctions again.
@@ -820,8 +828,8 @@ impl Kinetic {
         out
     }
 
-    /// The corridors among the owners of certificates `ps` whose middle
-    /// bridge's two ends are at one place at `now`.
+    /// The corridors among the owners of certificates `ps` with a bridge
+    /// (an end or the middle one) whose two ends are at one place at `now`.
     fn resting_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
         let mut out = BTreeSet::new();
         for p in ps {
@@ -831,17 +839,24 @@ impl Kinetic {
             for o in &s.owners {
                 let Owner::Corr(k) = *o else { continue };
                 let c = &self.kss.corrs[k.0 as usize];
-                let Some((i, j)) = c.mid else { continue };
                 if c.b == Obj::Omega || out.contains(&k) {
                     continue;
                 }
-                let (a_s, _, _, b_t) = self.kss.ends(k);
-                let (x, y) = (world.cw(a_s, i), world.cw(b_t, j));
-                if world.dot_filtered(y, x, y, now.interval()).is_some() {
-                    continue;
+                // its bridges: the two ends and the middle one
+                let (a_s, b_s, a_t, b_t) = self.kss.ends(k);
+                let mut bridges = vec![(a_s, b_s), (a_t, b_t)];
+                if let Some((i, j)) = c.mid {
+                    bridges.push((world.cw(a_s, i), world.cw(b_t, j)));
                 }
-                let d = crate::motion::dot_poly(&world.point(x), &world.point(y), &world.point(y));
-                if d.sign_at(now) == Sign::Zero {
+                let meet = |(x, y): (Att, Att)| {
+                    if world.dot_filtered(y, x, y, now.interval()).is_some() {
+                        return false;
+                    }
+                    let d =
+                        crate::motion::dot_poly(&world.point(x), &world.point(y), &world.point(y));
+                    d.sign_at(now) == Sign::Zero
+                };
+                if bridges.into_iter().any(meet) {
                     out.insert(k);
                 }
             }
@@ -1087,8 +1102,10 @@ impl Kinetic {
                     }
                     let [x, y, z] = c.map(|a| world.point(a));
                     let q = crate::motion::orient_poly(&x, &y, &z);
-                    q.sign_after(now) == Sign::Positive
-                        && q.first_failure_after(now).is_none_or(|x| x > at_t)
+                    // (or flat while two corners rest on each other)
+                    (q.is_zero() && super::faces::flat_while_resting(world, *c))
+                        || (q.sign_after(now) == Sign::Positive
+                            && q.first_failure_after(now).is_none_or(|x| x > at_t))
                 });
                 if !holds {
                     trace!(
@@ -1872,6 +1889,10 @@ impl Kinetic {
             let p = cert_poly(world, c);
             match p.sign_at(&at_t) {
                 Sign::Positive => {}
+                Sign::Zero
+                    if p.is_zero()
+                        && c.kind == super::certs::CertKind::Triangle
+                        && super::faces::flat_while_resting(world, c.p) => {}
                 _ if p.sign_before(&at_t) == Sign::Positive
                     && p.sign_after(&at_t) == Sign::Positive => {}
                 s => return Err(format!("certificate {:?} is {s:?} at {at}", c.p)),

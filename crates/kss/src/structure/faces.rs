@@ -135,7 +135,11 @@ fn lin(world: &Geo, a: Att) -> crate::motion::LinearPoint {
 /// bodies move alike). A bridge between them has length zero; the face
 /// corner there is the one between the two polygons' edges.
 pub fn coincide_forever(world: &Geo, x: Att, y: Att) -> bool {
-    if x.obj == y.obj || x.is_omega() || y.is_omega() {
+    let (Obj::Body(bx), Obj::Body(by)) = (x.obj, y.obj) else {
+        return false;
+    };
+    // (two bodies that move apart never rest on each other: the cheap test)
+    if bx == by || world.body(bx).traj.velocity() != world.body(by).traj.velocity() {
         return false;
     }
     if let (Some(ex), Some(ey)) = (world.enclose_linear(x), world.enclose_linear(y)) {
@@ -145,6 +149,16 @@ pub fn coincide_forever(world: &Geo, x: Att, y: Att) -> bool {
     }
     let (p, q) = (lin(world, x), lin(world, y));
     crate::motion::dot_poly(&p, &q, &q).is_zero()
+}
+
+/// Whether two of a partition triangle's corners rest on each other
+/// ([`coincide_forever`]): a triangle with a side of length zero, flat for
+/// as long as they rest (where three polygons met at a point and one of
+/// them rests on another). Its certificate never fails meanwhile; when a
+/// motion change parts them it is a turn again, and fails at once if the
+/// triangle is inverted.
+pub fn flat_while_resting(world: &Geo, c: [Att; 3]) -> bool {
+    (0..3).any(|i| coincide_forever(world, c[i], c[(i + 1) % 3]))
 }
 
 /// The positions in a face cycle of its places: every vertex but one that

@@ -287,9 +287,9 @@ impl Kss {
             .collect()
     }
 
-    /// [`Kss::junctions_with`] as corners: where the middle bridge's two
-    /// ends rest on each other ([`coincide_forever`]: a vertex on a vertex,
-    /// a bridge of length zero), the two junctions at it are one corner,
+    /// [`Kss::junctions_with`] as corners: where a bridge's two ends rest
+    /// on each other ([`coincide_forever`]: a vertex on a vertex, a bridge
+    /// of length zero), the two junctions at it are one corner,
     /// `(prev, α, next)` of the one that leaves the bridge and the one
     /// that enters it, paired with the end left out (which the face's other
     /// junctions then name by the end kept, as the face's cycle of places does).
@@ -299,41 +299,45 @@ impl Kss {
         k: CorrId,
         mid: Option<(u32, u32)>,
     ) -> Vec<Option<Vec<Corner>>> {
-        let resting = mid.is_some_and(|(i, j)| {
-            let (a_s, _, _, b_t) = self.ends(k);
-            coincide_forever(world, step_cw(world, a_s, i), step_cw(world, b_t, j))
-        });
         self.junctions_with(world, k, mid)
             .into_iter()
             .map(|face| {
                 face.map(|js| {
                     let n = js.len();
-                    let at = (0..n).find(|&x| {
-                        resting
-                            && js[x].out_edge == EdgeRef::Mid
-                            && js[(x + 1) % n].in_edge == EdgeRef::Mid
-                    });
-                    let Some(x) = at else {
+                    // the junction leaving each bridge of length zero
+                    let merged: Vec<bool> = (0..n)
+                        .map(|x| {
+                            let y = (x + 1) % n;
+                            js[x].out_edge != EdgeRef::Chain
+                                && js[y].in_edge == js[x].out_edge
+                                && coincide_forever(world, js[x].v, js[y].v)
+                        })
+                        .collect();
+                    if !merged.contains(&true) {
                         return js.into_iter().map(|j| (j, None)).collect();
-                    };
-                    let (j1, j2) = (js[x], js[(x + 1) % n]);
-                    let corner = Junction {
-                        prev: j1.prev,
-                        v: j1.v,
-                        next: j2.next,
-                        in_edge: j1.in_edge,
-                        out_edge: j2.out_edge,
-                    };
-                    // (the face's other junctions name the corner by the
+                    }
+                    // (the face's other junctions name each corner by the
                     // end kept, as the face's cycle of places does)
-                    let named = |a: Att| if a == j2.v { j1.v } else { a };
+                    let named = |a: Att| {
+                        (0..n)
+                            .find(|&x| merged[x] && js[(x + 1) % n].v == a)
+                            .map_or(a, |x| js[x].v)
+                    };
                     (0..n)
-                        .filter(|&y| y != (x + 1) % n)
-                        .map(|y| {
-                            if y == x {
+                        .filter(|&y| !merged[(y + n - 1) % n])
+                        .map(|x| {
+                            let j = js[x];
+                            if merged[x] {
+                                let j2 = js[(x + 1) % n];
+                                let corner = Junction {
+                                    prev: named(j.prev),
+                                    v: j.v,
+                                    next: named(j2.next),
+                                    in_edge: j.in_edge,
+                                    out_edge: j2.out_edge,
+                                };
                                 (corner, Some(j2.v))
                             } else {
-                                let j = js[y];
                                 let j = Junction {
                                     prev: named(j.prev),
                                     next: named(j.next),
