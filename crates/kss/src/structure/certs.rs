@@ -157,9 +157,9 @@ impl Kss {
                 }
                 // a polygon vertex between two of its own is a chain
                 // interior, reflex for ever; the others are junctions,
-                // their turns taken around the face's places (a middle
-                // bridge between two vertices resting on each other has
-                // length zero: its two ends are one corner)
+                // their turns taken around the face's places (a bridge
+                // between two vertices resting on each other has length
+                // zero: its two ends are one corner)
                 let places = super::faces::resting_places(world, &face);
                 let (n, m) = (places.len(), face.len());
                 for x in 0..n {

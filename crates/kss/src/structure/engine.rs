@@ -733,18 +733,34 @@ impl Kinetic {
                     .get(p)
                     .is_some_and(|s| self.due_now(p, s.key, now))
             });
-            if due || reshape.contains(&k) {
+            if due {
                 continue;
             }
             // (its certificates are the corner's, not the two junctions'
-            // that must now hold: without a decomposition the structure
-            // cannot go on from here)
-            if !self.kss.faces_valid(world, k, mid, now) {
-                self.kss.normalize(world, k, now, None)?;
+            // that must now hold: without a decomposition the region around
+            // its two bodies is repaired, or the structure rebuilt, below)
+            if !self.kss.faces_valid(world, k, mid, now)
+                && self.kss.normalize(world, k, now, None).is_err()
+            {
+                let c = &self.kss.corrs[k.0 as usize];
+                let bodies: Vec<BodyId> = [c.a, c.b]
+                    .into_iter()
+                    .filter_map(|o| match o {
+                        Obj::Body(b) => Some(b),
+                        Obj::Omega => None,
+                    })
+                    .collect();
+                let first = self.owned_corr[k.0 as usize].first().copied();
+                self.broken = Some("degenerate_rebuild");
+                self.broken_around = first.map(|p| (bodies, vec![p]));
+                break;
             }
             self.refresh(world, Owner::Corr(k), now)?;
         }
         for k in reshape {
+            if self.broken.is_some() {
+                break;
+            }
             let mid = self.kss.corrs[k.0 as usize].mid;
             // (a corridor with a failure still due at this instant is left to
             // that event's operation)
@@ -1573,8 +1589,12 @@ impl Kinetic {
             if let Ok(mut fresh) = built {
                 let holds = fresh.certs.values().all(|s| {
                     let p = cert_poly(world, &s.cert);
-                    p.sign_after(now) == Sign::Positive
-                        && p.first_failure_after(now).is_none_or(|f| f > at_t)
+                    // (or a partition triangle flat while two corners rest)
+                    (p.is_zero()
+                        && s.cert.kind == super::certs::CertKind::Triangle
+                        && super::faces::flat_while_resting(world, s.cert.p))
+                        || (p.sign_after(now) == Sign::Positive
+                            && p.first_failure_after(now).is_none_or(|f| f > at_t))
                 });
                 trace!("rebuild at {} holds {holds}", at_t.to_f64());
                 if holds {

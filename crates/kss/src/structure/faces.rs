@@ -241,8 +241,8 @@ impl Kss {
                 }
             }
             for (fi, face) in self.corridor_faces(world, k).iter().enumerate() {
-                // (a middle bridge between two vertices resting on each other
-                // has length zero: its two ends are one corner)
+                // (a bridge between two vertices resting on each other has
+                // length zero: its two ends are one corner)
                 let face = collapse_resting(world, face);
                 let n = face.len();
                 if n < 3 {

@@ -801,7 +801,7 @@ impl Kss {
         }
         // two chains that rest on each other at a vertex pinch the corridor
         // there: the bridge of length zero between those vertices
-        if let Some(m) = self.resting_bridge(world, k, t) {
+        for m in self.resting_bridges(world, k, t) {
             if Some(m) != mid && self.faces_valid_on(world, k, Some(m), t, side) {
                 self.corrs[ki].mid = Some(m);
                 return Some(1);
@@ -810,15 +810,22 @@ impl Kss {
         None
     }
 
-    /// A middle bridge `(i, j)` of corridor `k` whose two ends rest on each
-    /// other ([`coincide_forever`]), if its chains touch that way. Tried
-    /// only when no other decomposition holds: `O(len_a · len_b)` f64
+    /// The middle bridges `(i, j)` of corridor `k` whose two ends rest on
+    /// each other ([`coincide_forever`]), where its chains touch that way.
+    /// Tried only when no other decomposition holds, and only when the two
+    /// bodies move alike (`O(1)` otherwise): then `O(len_a · len_b)` f64
     /// comparisons, exact ones only where the enclosures overlap.
-    fn resting_bridge(&self, world: &Geo, k: CorrId, t: &Time) -> Option<(u32, u32)> {
+    fn resting_bridges(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<(u32, u32)> {
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
-        if c.b == Obj::Omega || len_a == 0 || len_b == 0 {
-            return None;
+        let (Obj::Body(ba), Obj::Body(bb)) = (c.a, c.b) else {
+            return Vec::new();
+        };
+        if len_a == 0
+            || len_b == 0
+            || world.body(ba).traj.velocity() != world.body(bb).traj.velocity()
+        {
+            return Vec::new();
         }
         let (a_s, _, _, b_t) = self.ends(k);
         let tiv = t.interval();
@@ -834,6 +841,7 @@ impl Kss {
                 (y, world.enclose(y, tiv))
             })
             .collect();
+        let mut out = Vec::new();
         for (i, (x, ex)) in a.iter().enumerate() {
             for (j, (y, ey)) in b.iter().enumerate() {
                 let (i, j) = (i as u32, j as u32);
@@ -847,11 +855,11 @@ impl Kss {
                     }
                 }
                 if coincide_forever(world, *x, *y) {
-                    return Some((i, j));
+                    out.push((i, j));
                 }
             }
         }
-        None
+        out
     }
 
     /// Walk a middle bridge of diagonal type `ty` from `start` until its four
