@@ -228,6 +228,21 @@ fn a_vertex_resting_on_a_vertex_is_a_bridge_of_length_zero() {
     }
 }
 
+/// A polygon stops with an edge on an identical edge of a fixed one, both
+/// pairs of endpoints coinciding, then backs off and comes back (from
+/// `gen_small parallel 1117`). The corridor between them has a face that
+/// is a path traversed twice (from one pinch along the two edges to the
+/// other and back); the plain structure now follows it, where the
+/// reference stood in (the hierarchy, whose approximations touch
+/// otherwise, still stands in here).
+#[test]
+fn an_edge_resting_on_an_identical_edge_is_followed_by_plain() {
+    let v = stats_of("edge_resting_on_an_identical_edge.json", "plain");
+    assert_eq!(v["stand_ins"], 0, "{v}");
+    assert_eq!(v["degenerate_rebuilds"], 0, "{v}");
+    assert_eq!(v["collisions"], 2, "{v}");
+}
+
 /// `gen_small gas 369`: a pop whose every candidate inverts a partition
 /// triangle at the popped vertex; the structure follows in place with an ear
 /// slide after the pop (`crates/kss/src/structure/pop.rs`) instead of a rebuild, which

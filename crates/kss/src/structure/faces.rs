@@ -176,6 +176,23 @@ pub fn resting_places(world: &Geo, face: &[Att]) -> Vec<usize> {
     }
 }
 
+/// Whether a face's places (its cycle with resting places collapsed,
+/// [`collapse_resting`]) are a path traversed twice: from one cusp to
+/// another and back, each place on the way back resting on its partner on
+/// the way out. Such a face has no area for as long as they rest (an edge
+/// resting on an identical edge of another polygon leaves one between the
+/// two pinches); it is a pseudo-triangle reduced to a path, and nothing in
+/// it can change until a motion change parts the pairs.
+pub fn doubly_traversed(world: &Geo, places: &[Att]) -> bool {
+    let n = places.len();
+    if n < 4 || n % 2 != 0 {
+        return false;
+    }
+    (0..n / 2).any(|r| {
+        (1..n / 2).all(|i| coincide_forever(world, places[(r + i) % n], places[(r + n - i) % n]))
+    })
+}
+
 /// A face cycle with each vertex that rests on the vertex before it left
 /// out ([`resting_places`]): the face's corners as they are.
 pub fn collapse_resting(world: &Geo, face: &[Att]) -> Vec<Att> {
@@ -244,6 +261,9 @@ impl Kss {
                 // (a bridge between two vertices resting on each other has
                 // length zero: its two ends are one corner)
                 let face = collapse_resting(world, face);
+                if doubly_traversed(world, &face) {
+                    continue; // a path traversed twice, while it rests
+                }
                 let n = face.len();
                 if n < 3 {
                     if n == 2 && self.corrs[ki].len_a == 0 && self.corrs[ki].len_b == 0 {

@@ -413,7 +413,27 @@ impl Kss {
             }
         }
         let shapes = self.faces_with(world, k, mid);
+        // (two bodies that move alike may leave a face that is a path
+        // traversed twice: an edge resting on an identical edge)
+        let alike = match (c.a, c.b) {
+            (Obj::Body(a), Obj::Body(b)) => {
+                world.body(a).traj.velocity() == world.body(b).traj.velocity()
+            }
+            _ => false,
+        };
         for (fi, face) in self.corners_with(world, k, mid).into_iter().enumerate() {
+            if alike {
+                let f = shapes[fi];
+                let cycle: Vec<Att> =
+                    f.p.iter()
+                        .flat_map(|p| (0..=p.len).map(move |x| (p.start, x)))
+                        .map(|(a, x)| step_cw(world, a, x))
+                        .collect();
+                let places = super::faces::collapse_resting(world, &cycle);
+                if super::faces::doubly_traversed(world, &places) {
+                    continue;
+                }
+            }
             let Some(js) = face else {
                 // a face with two vertices: only an empty corridor has one
                 if c.len_a == 0 && c.len_b == 0 {
