@@ -228,19 +228,28 @@ fn a_vertex_resting_on_a_vertex_is_a_bridge_of_length_zero() {
     }
 }
 
-/// A polygon stops with an edge on an identical edge of a fixed one, both
-/// pairs of endpoints coinciding, then backs off and comes back (from
-/// `gen_small parallel 1117`). The corridor between them has a face that
-/// is a path traversed twice (from one pinch along the two edges to the
-/// other and back); the plain structure now follows it, where the
-/// reference stood in (the hierarchy, whose approximations touch
-/// otherwise, still stands in here).
+/// An edge resting on an identical edge of another polygon, both pairs of
+/// endpoints coinciding. From `gen_small parallel 1117`: a polygon stops
+/// so on a fixed one, backs off and comes back; the corridor between them
+/// has a face that is a path traversed twice (from one pinch along the two
+/// edges to the other and back). From `gen_small parallel 3388`
+/// (minimized): two polygons stop as they meet so, the flush edges inside
+/// both chains of their corridor, whose face beyond the bridge of length
+/// zero has a cusp at it between two resting neighbours. The reference
+/// stood in on both, with both structures; both structures follow them now.
 #[test]
-fn an_edge_resting_on_an_identical_edge_is_followed_by_plain() {
-    let v = stats_of("edge_resting_on_an_identical_edge.json", "plain");
-    assert_eq!(v["stand_ins"], 0, "{v}");
-    assert_eq!(v["degenerate_rebuilds"], 0, "{v}");
-    assert_eq!(v["collisions"], 2, "{v}");
+fn an_edge_resting_on_an_identical_edge_is_followed() {
+    for name in [
+        "edge_resting_on_an_identical_edge.json",
+        "edges_resting_flush_inside_a_corridor.json",
+    ] {
+        for structure in ["plain", "hierarchical"] {
+            let v = stats_of(name, structure);
+            assert_eq!(v["stand_ins"], 0, "{name} {structure}: {v}");
+            assert_eq!(v["degenerate_rebuilds"], 0, "{name} {structure}: {v}");
+            assert_eq!(v["collisions"], 2, "{name} {structure}: {v}");
+        }
+    }
 }
 
 /// `gen_small gas 369`: a pop whose every candidate inverts a partition

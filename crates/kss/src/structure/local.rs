@@ -478,6 +478,10 @@ impl Kss {
                         if between_on(world, j.prev, j.v, j.next, t, side) {
                         } else if between_on(world, j.v, j.prev, j.next, t, side)
                             || between_on(world, j.v, j.next, j.prev, t, side)
+                            // (or its two neighbours rest on each other: the
+                            // corner at a bridge of length zero, between two
+                            // polygons flush along an edge, is a cusp too)
+                            || coincide_forever(world, j.prev, j.next)
                         {
                             convex += 1;
                         } else {
