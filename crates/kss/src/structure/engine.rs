@@ -229,15 +229,22 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     if p.sign_after(now) != Sign::Positive {
         // (a partition triangle flat while two of its corners rest on each
         // other holds until a motion change parts them)
-        if p.is_zero()
-            && c.kind == super::certs::CertKind::Triangle
-            && super::faces::flat_while_resting(world, c.p)
-        {
+        if resting_flat(world, c, &p) {
             return None;
         }
         return Some(now.clone());
     }
     p.failure_after_positive(now)
+}
+
+/// Whether certificate `c`, whose polynomial is `p`, is a partition
+/// triangle that stays flat while two of its corners rest on each other
+/// ([`super::faces::flat_while_resting`]): it holds until a motion change
+/// parts them.
+fn resting_flat(world: &Geo, c: &Cert, p: &Poly) -> bool {
+    p.is_zero()
+        && c.kind == super::certs::CertKind::Triangle
+        && super::faces::flat_while_resting(world, c.p)
 }
 
 /// The local repair's candidate sets ([`Kinetic::repair_around`]): queue
@@ -1590,9 +1597,7 @@ impl Kinetic {
                 let holds = fresh.certs.values().all(|s| {
                     let p = cert_poly(world, &s.cert);
                     // (or a partition triangle flat while two corners rest)
-                    (p.is_zero()
-                        && s.cert.kind == super::certs::CertKind::Triangle
-                        && super::faces::flat_while_resting(world, s.cert.p))
+                    resting_flat(world, &s.cert, &p)
                         || (p.sign_after(now) == Sign::Positive
                             && p.first_failure_after(now).is_none_or(|f| f > at_t))
                 });
@@ -1909,10 +1914,7 @@ impl Kinetic {
             let p = cert_poly(world, c);
             match p.sign_at(&at_t) {
                 Sign::Positive => {}
-                Sign::Zero
-                    if p.is_zero()
-                        && c.kind == super::certs::CertKind::Triangle
-                        && super::faces::flat_while_resting(world, c.p) => {}
+                Sign::Zero if resting_flat(world, c, &p) => {}
                 _ if p.sign_before(&at_t) == Sign::Positive
                     && p.sign_after(&at_t) == Sign::Positive => {}
                 s => return Err(format!("certificate {:?} is {s:?} at {at}", c.p)),
