@@ -152,8 +152,28 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// of the region crosses at once, the triangle beyond inverted just after
 /// the instant: the region grows by those two polygons (from `gen_small
 /// grazing 2447`; its constraints crossed at every instant tried).
+/// Since session 16 the local operations alone follow three of them
+/// (`gen_small simultaneous 4298`, `simultaneous 4187` and `grazing 2447`:
+/// a corridor's middle bridge is now also walked, or taken between two
+/// vertices that touch, when junctions are held against the motion): no
+/// repair there any more, and still no rebuild.
 #[test]
 fn settled_contacts_are_repaired_locally() {
+    for followed in [
+        "local_repair_after_failed_operations_and_a_response.json",
+        "local_repair_hull_turn_checked_just_after.json",
+        "local_repair_grown_past_a_crossed_bridge.json",
+    ] {
+        for structure in ["plain", "hierarchical"] {
+            let v = stats_of(followed, structure);
+            assert_eq!(v["degenerate_rebuilds"], 0, "{followed} {structure}: {v}");
+            assert_eq!(v["stand_ins"], 0, "{followed} {structure}: {v}");
+            assert!(
+                v["events_processed"].as_u64().unwrap_or(u64::MAX) < 100,
+                "{followed} {structure}: {v}"
+            );
+        }
+    }
     for name in [
         "local_repair_three_meet_at_a_point.json",
         "local_repair_around_both_bodies.json",
@@ -162,9 +182,6 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_while_two_polygons_slide.json",
         "local_repair_with_a_vertex_on_an_edge.json",
         "local_repair_grown_by_a_neighbouring_degeneracy.json",
-        "local_repair_after_failed_operations_and_a_response.json",
-        "local_repair_hull_turn_checked_just_after.json",
-        "local_repair_grown_past_a_crossed_bridge.json",
     ] {
         let v = stats_of(name, "plain");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
@@ -173,7 +190,6 @@ fn settled_contacts_are_repaired_locally() {
     for name in [
         "local_repair_while_two_polygons_slide.json",
         "local_repair_with_a_vertex_on_an_edge.json",
-        "local_repair_after_failed_operations_and_a_response.json",
     ] {
         let v = stats_of(name, "hierarchical");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
@@ -187,16 +203,16 @@ fn settled_contacts_are_repaired_locally() {
 /// then rebuilt the whole structure; a certificate handled a fourth time at
 /// one instant is now taken as a cycle, and the region around the polygons
 /// of the last certificates handled is triangulated again for just after
-/// it.
+/// it. Since session 16 the cycle is first met by the alternate
+/// normalization (`Kinetic::alternate_normalization`: the decomposition
+/// holding the fewest junctions against the motion), which breaks this one
+/// with no repair.
 #[test]
 fn local_operations_that_cycle_are_repaired_locally() {
     for structure in ["plain", "hierarchical"] {
         let v = stats_of("local_operations_cycle_at_an_instant.json", structure);
         assert_eq!(v["degenerate_rebuilds"], 0, "{structure}: {v}");
-        assert!(
-            v["local_repairs"].as_u64().unwrap_or(0) >= 1,
-            "{structure}: {v}"
-        );
+        assert_eq!(v["stand_ins"], 0, "{structure}: {v}");
         assert!(
             v["events_processed"].as_u64().unwrap_or(u64::MAX) < 100,
             "{structure}: {v}"
@@ -248,6 +264,40 @@ fn an_edge_resting_on_an_identical_edge_is_followed() {
             assert_eq!(v["stand_ins"], 0, "{name} {structure}: {v}");
             assert_eq!(v["degenerate_rebuilds"], 0, "{name} {structure}: {v}");
             assert_eq!(v["collisions"], 2, "{name} {structure}: {v}");
+        }
+    }
+}
+
+/// Degenerate instants where the corridor that has to be normalized has no
+/// decomposition just after the instant until other failures of the same
+/// instant are handled, and the first decomposition that held some
+/// junctions against the motion was the wrong one (the structure was
+/// rebuilt, or the reference stood in). Minimized from `gen_small grazing
+/// 12625` (a bounce at a vertex-on-vertex contact while an end bridge lies
+/// on a polygon edge's line: the middle bridge that goes with the end's
+/// slide is found by walking it), `grazing 9761` (a vertex touches a vertex
+/// as the hull changes: the corridor is pinched there, by a bridge between
+/// the two touching vertices), `parallel 6469` and `parallel 10046` (two
+/// operations handed an edge back and forth more than a thousand times at
+/// one instant: once a cycle is seen, normalization takes the
+/// decomposition that holds the fewest junctions against the motion).
+#[test]
+fn degenerate_instants_are_followed_without_a_rebuild() {
+    for name in [
+        "end_slide_at_a_bounce_with_a_walked_middle_bridge.json",
+        "vertex_touch_pinches_a_corridor_at_a_hull_change.json",
+        "operations_cycle_until_the_fewest_held_rule.json",
+        "operations_cycle_until_the_fewest_held_rule_stand_in.json",
+    ] {
+        for structure in ["plain", "hierarchical"] {
+            let v = stats_of(name, structure);
+            assert_eq!(v["degenerate_rebuilds"], 0, "{name} {structure}: {v}");
+            assert_eq!(v["stand_ins"], 0, "{name} {structure}: {v}");
+            assert_eq!(v["local_repairs"], 0, "{name} {structure}: {v}");
+            assert!(
+                v["events_processed"].as_u64().unwrap_or(u64::MAX) < 100,
+                "{name} {structure}: {v}"
+            );
         }
     }
 }

@@ -1180,6 +1180,13 @@ impl KineticEngine {
                 Step::Internal(t) => {
                     if last.as_ref() == Some(&t) {
                         ops_now += 1;
+                        // a cycle: first the alternate normalization rule
+                        // for the rest of the instant, then a repair
+                        if (self.k.cycling(&t) || ops_now > 64 * (world.len() as u64 + 16))
+                            && self.k.alternate_normalization(&t)
+                        {
+                            ops_now = 0;
+                        }
                         if contacts.is_empty()
                             && !repaired_cycle_now
                             && !rebuilt_now

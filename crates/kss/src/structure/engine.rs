@@ -95,6 +95,9 @@ pub struct Kinetic {
     recent: std::collections::VecDeque<[Att; 3]>,
     /// The instant of `recent`.
     recent_at: Option<Time>,
+    /// The instant at which normalization switched to its alternate rule
+    /// ([`Kinetic::alternate_normalization`]).
+    alternate_at: Option<Time>,
     /// Rotates the coarsening candidates.
     tick: u64,
 }
@@ -1501,6 +1504,8 @@ impl Kinetic {
         match self.handle(world, p, t.clone(), contacts, collides) {
             Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
                 trace!("local operations failed at {}: {e}; repairing", t.to_f64());
+                #[cfg(feature = "trace")]
+                self.kss.trace_dump();
                 let bodies = bodies_of(&p);
                 // (only all of them together: the failed operation may have
                 // changed corridors between any two of them before failing,
@@ -1547,6 +1552,26 @@ impl Kinetic {
                 .is_some_and(|p| self.recent.iter().filter(|&q| q == p).count() >= 4)
     }
 
+    /// The local operations cycle at `now`: for the rest of the instant,
+    /// [`Kss::normalize`] takes the decomposition that holds the fewest
+    /// junctions against the motion rather than the first that works (two
+    /// operations that undo each other usually meet at a junction held
+    /// needlessly, whose failure hands an edge back). `false` if it already
+    /// did at `now` (the caller repairs then).
+    pub fn alternate_normalization(&mut self, now: &Time) -> bool {
+        if self.alternate_at.as_ref() == Some(now) {
+            return false;
+        }
+        trace!(
+            "operations cycle at {}: the alternate normalization",
+            now.to_f64()
+        );
+        self.alternate_at = Some(now.clone());
+        self.kss.fewest_held = true;
+        self.recent.clear();
+        true
+    }
+
     /// The local operations cycle at `now` ([`Kinetic::cycling`], or the
     /// driver's guard: far more operations at one instant than the
     /// structure has corridors): repair
@@ -1558,6 +1583,7 @@ impl Kinetic {
         let Some(&last) = self.recent.back() else {
             return Ok(false);
         };
+        trace!("repair_cycle at {}", now.to_f64());
         let mut bodies: Vec<BodyId> = self.recent.iter().flat_map(bodies_of).collect();
         bodies.sort();
         bodies.dedup();
@@ -1602,6 +1628,10 @@ impl Kinetic {
                             && p.first_failure_after(now).is_none_or(|f| f > at_t))
                 });
                 trace!("rebuild at {} holds {holds}", at_t.to_f64());
+                #[cfg(feature = "trace")]
+                if holds {
+                    fresh.kss.trace_dump();
+                }
                 if holds {
                     let mut keys: Vec<[Att; 3]> = fresh.certs.keys().copied().collect();
                     keys.sort();
@@ -1668,6 +1698,7 @@ impl Kinetic {
             self.recent.clear();
             self.recent_at = Some(t.clone());
         }
+        self.kss.fewest_held = self.alternate_at.as_ref() == Some(&t);
         if self.recent.len() == RECENT {
             self.recent.pop_front();
         }
@@ -1678,12 +1709,18 @@ impl Kinetic {
             return Ok(Step::Deferred(t));
         }
         trace!(
-            "handle t={} {:?} {:?} -> {:?}",
+            "handle t={} {:?} {:?} {:?} {:?} -> {:?}",
             t.to_f64(),
             cert.p,
+            cert.sign,
+            cert.kind,
             owners,
             classify(world, &cert, &t)
         );
+        #[cfg(feature = "trace")]
+        if std::env::var_os("KSS_DUMP").is_some() {
+            self.kss.trace_dump();
+        }
         let mut failure = classify(world, &cert, &t);
         if let Failure::Contact { a, b, third } = failure {
             let apart = super::events::real_touch_excluded(world, &p, &t);

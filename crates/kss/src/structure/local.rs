@@ -352,7 +352,7 @@ impl Kss {
             .collect()
     }
 
-    /// The corners of corridor `k` as it stands ([`Kss::corners_with`]),
+    /// The corners of corridor `k` as it stands (`Kss::corners_with` with its own middle bridge),
     /// all faces together: what its junction certificates are made of.
     pub fn corners(&self, world: &Geo, k: CorrId) -> Vec<Junction> {
         let mid = self.corrs[k.0 as usize].mid;
@@ -641,8 +641,15 @@ impl Kss {
     /// Restore corridor `k`'s faces to pseudo-triangles just after `t`.
     /// Keeps a valid middle bridge; otherwise drops it when the corridor has
     /// three convex corners, or walks it from its old place (or from `hint`)
-    /// to a valid one. Returns how many walk steps a repair took (0 when
-    /// nothing was repaired), or an error if no decomposition was found.
+    /// to a valid one. Where none holds just after `t` (other failures of
+    /// the instant are still to be handled), it keeps one that holds with
+    /// some junctions that are zero at `t` held against the motion
+    /// ([`Kss::held`]); the candidates are the middle bridge it had, the
+    /// one from just before `t`, none, the walks' results just after `t`
+    /// and the bridges between two vertices that touch at `t`, and it takes
+    /// the first that works (with [`Kss::fewest_held`], the one holding the
+    /// fewest). Returns how many walk steps a repair took (0 when nothing
+    /// was repaired), or an error if no decomposition was found.
     pub fn normalize(
         &mut self,
         world: &Geo,
@@ -680,14 +687,52 @@ impl Kss {
             candidates.push(self.corrs[ki].mid);
         }
         candidates.push(None);
+        // (an end junction that fails at this instant keeps `decompose` from
+        // walking the middle bridge: the walk's own tangencies just after
+        // the instant give the candidates that go with the end's slide)
+        if len_a > 0 && len_b > 0 {
+            let limit = 2 * (len_a + len_b) + 8;
+            for start in [mid, hint, Some((0, 0)), Some((len_a, len_b))]
+                .into_iter()
+                .flatten()
+            {
+                for ty in [Diagonal::SourceToTarget, Diagonal::TargetToSource] {
+                    if let Some((m, _)) = self.walk(world, k, (t, Side::After), start, ty, limit) {
+                        if !candidates.contains(&Some(m)) {
+                            candidates.push(Some(m));
+                        }
+                    }
+                }
+            }
+        }
+        for m in self.touching_bridges(world, k, t) {
+            if !candidates.contains(&Some(m)) {
+                candidates.push(Some(m));
+            }
+        }
+        // (the first candidate that works; or, once the operations at this
+        // instant were seen to cycle, the one that holds the fewest
+        // junctions against the motion: a junction held needlessly can hand
+        // an edge back and forth with a neighbour, see `fewest_held`)
+        type Held = (Option<(u32, u32)>, Vec<[Att; 3]>);
+        let mut best: Option<Held> = None;
         for m in candidates {
             if let Some(flips) = self.fewest_flips(world, k, m, t) {
-                self.corrs[ki].mid = m;
-                if !flips.is_empty() {
-                    self.held.insert(k, flips);
+                if best.as_ref().is_none_or(|(_, b)| flips.len() < b.len()) {
+                    let done = flips.len() <= 1 || !self.fewest_held;
+                    best = Some((m, flips));
+                    if done {
+                        break;
+                    }
                 }
-                return Ok(1);
             }
+        }
+        if let Some((m, flips)) = best {
+            self.corrs[ki].mid = m;
+            if !flips.is_empty() {
+                self.held.insert(k, flips);
+            }
+            return Ok(1);
         }
         self.corrs[ki].mid = mid;
         #[cfg(feature = "trace")]
@@ -831,7 +876,58 @@ impl Kss {
                 return Some(1);
             }
         }
+        // two chains that touch at `t` (a vertex on a vertex, parting just
+        // after) may pinch the corridor there: the bridge between them
+        for m in self.touching_bridges(world, k, t) {
+            if Some(m) != mid && self.faces_valid_on(world, k, Some(m), t, side) {
+                self.corrs[ki].mid = Some(m);
+                return Some(1);
+            }
+        }
         None
+    }
+
+    /// The middle bridges `(i, j)` of corridor `k` between a vertex of each
+    /// chain that coincide at `t`, among the corridor's end vertices and the
+    /// points of the certificate being handled (where a vertex touched a
+    /// vertex at this instant). Tried only when no other decomposition
+    /// holds: `O(len_a + len_b)` to place the few candidates on the chains.
+    fn touching_bridges(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<(u32, u32)> {
+        let c = &self.corrs[k.0 as usize];
+        let (len_a, len_b) = (c.len_a, c.len_b);
+        let Some(r) = t.as_rational() else {
+            return Vec::new();
+        };
+        if c.b == Obj::Omega || len_a == 0 || len_b == 0 {
+            return Vec::new();
+        }
+        let (a_s, b_s, a_t, b_t) = self.ends(k);
+        let mut pts: Vec<Att> = vec![a_s, b_s, a_t, b_t];
+        pts.extend(self.handling.into_iter().flatten());
+        let offset = |from: Att, len: u32, x: Att| {
+            (x.obj == from.obj)
+                .then(|| (0..=len).find(|&i| step_cw(world, from, i) == x))
+                .flatten()
+        };
+        let mut out = Vec::new();
+        for &x in &pts {
+            let Some(i) = offset(a_s, len_a, x) else {
+                continue;
+            };
+            for &y in &pts {
+                let Some(j) = offset(b_t, len_b, y) else {
+                    continue;
+                };
+                if (i == 0 && j == len_b) || (i == len_a && j == 0) || out.contains(&(i, j)) {
+                    continue;
+                }
+                let (px, py) = (world.position(x, r), world.position(y, r));
+                if px.is_some() && px == py {
+                    out.push((i, j));
+                }
+            }
+        }
+        out
     }
 
     /// The middle bridges `(i, j)` of corridor `k` whose two ends rest on

@@ -131,6 +131,12 @@ pub struct Kss {
     /// The certificate (canonical triple) whose failure is being handled:
     /// never held against the motion, or its event would repeat for ever.
     pub handling: Option<[Att; 3]>,
+    /// How [`Kss::normalize`] chooses among the decompositions that hold
+    /// some junctions against the motion: the first candidate that works
+    /// (`false`, the rule between cycles), or the one holding the fewest
+    /// (`true`: set for the rest of an instant at which the operations
+    /// were seen to cycle, [`engine::Kinetic::alternate_normalization`]).
+    pub fewest_held: bool,
 }
 
 impl Kss {
@@ -150,5 +156,28 @@ impl Kss {
             self.corner(tt, it + 1),
             self.corner(tt, it),
         )
+    }
+
+    /// Print every corridor's ends, chain lengths and middle bridge (trace
+    /// builds only, for debugging).
+    #[cfg(feature = "trace")]
+    pub fn trace_dump(&self) {
+        for (i, c) in self.corrs.iter().enumerate() {
+            let (a_s, b_s, a_t, b_t) = self.ends(CorrId(i as u32));
+            let f = |x: Att| match x.obj {
+                Obj::Body(b) => format!("{}.{}", b.0, x.v),
+                Obj::Omega => "w".to_string(),
+            };
+            eprintln!(
+                "  corridor {i}: s {}-{} t {}-{} len {}/{} mid {:?}",
+                f(a_s),
+                f(b_s),
+                f(a_t),
+                f(b_t),
+                c.len_a,
+                c.len_b,
+                c.mid
+            );
+        }
     }
 }
