@@ -151,7 +151,14 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// region whose boundary bridge (between two polygons outside it) a polygon
 /// of the region crosses at once, the triangle beyond inverted just after
 /// the instant: the region grows by those two polygons (from `gen_small
-/// grazing 2447`; its constraints crossed at every instant tried).
+/// grazing 2447`; its constraints crossed at every instant tried). And a
+/// region whose corridor between two polygons outside it (colliding at the
+/// same instant) holds junctions against the motion, which the repair now
+/// accepts there, and whose set takes the polygons of the partition
+/// triangle whose collapse failed, not only those of the certificate popped
+/// (`gen_small grazing 15498`, four points on one line at the last instant
+/// of the run: the plain structure's last global rebuild in the 100,000
+/// sweep).
 /// Since session 16 the local operations alone follow three of them
 /// (`gen_small simultaneous 4298`, `simultaneous 4187` and `grazing 2447`:
 /// a corridor's middle bridge is now also walked, or taken between two
@@ -182,6 +189,7 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_while_two_polygons_slide.json",
         "local_repair_with_a_vertex_on_an_edge.json",
         "local_repair_grown_by_a_neighbouring_degeneracy.json",
+        "local_repair_past_a_corridor_degenerate_at_the_same_instant.json",
     ] {
         let v = stats_of(name, "plain");
         assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");

@@ -44,7 +44,9 @@ fn plain_matches_brute_on_generic_families() {
 /// after every event. Where the local operations cannot resolve an instant
 /// the region around the polygons involved is triangulated again (a local
 /// repair); a rebuild of the whole structure stays rare: at most one
-/// scenario in 200.
+/// scenario in 5000 (one in 200 until session 16; measured then over the
+/// 50,001 degenerate scenarios of `KSS_SLOW=1`: none with plain, 3 with
+/// the hierarchy).
 #[test]
 fn plain_matches_brute_on_degenerate_families() {
     let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
@@ -53,7 +55,7 @@ fn plain_matches_brute_on_degenerate_families() {
 
 fn assert_rebuilds_rare(structure: StructureKind, total: usize, rebuilds: u64) {
     assert!(
-        rebuilds * 200 <= total as u64,
+        rebuilds * 5000 <= total as u64,
         "{}: {rebuilds} rebuilds in {total} degenerate scenarios",
         structure.name()
     );

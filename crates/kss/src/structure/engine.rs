@@ -1143,7 +1143,7 @@ impl Kinetic {
                 }
                 // and every new corridor must have a decomposition just
                 // after `now` (tried, and undone)
-                if let Err(pair) = self.kss.retriangulation_decomposes(world, &plan, now) {
+                if let Err(pair) = self.kss.retriangulation_decomposes(world, &plan, &set, now) {
                     trace!(
                         "repair around {set:?} at {}: a corridor {pair:?} does not decompose",
                         at_t.to_f64()
@@ -1506,7 +1506,17 @@ impl Kinetic {
                 trace!("local operations failed at {}: {e}; repairing", t.to_f64());
                 #[cfg(feature = "trace")]
                 self.kss.trace_dump();
-                let bodies = bodies_of(&p);
+                // (with those of the certificate whose operation failed: a
+                // triangle handled first for `p`'s corridor may have a
+                // polygon that `p` does not name)
+                let mut bodies = bodies_of(&p);
+                if self.recent_at.as_ref() == Some(&t) {
+                    if let Some(q) = self.recent.back() {
+                        bodies.extend(bodies_of(q));
+                        bodies.sort();
+                        bodies.dedup();
+                    }
+                }
                 // (only all of them together: the failed operation may have
                 // changed corridors between any two of them before failing,
                 // and the region must take every such corridor; not after a

@@ -631,12 +631,18 @@ impl Kss {
     /// middle bridge, as [`Kss::apply_removal`]'s callers place it). The
     /// plan is applied, the corridors normalized, and every slot it touched
     /// restored: `O(|R|)`, the structure unchanged afterwards. The hull
-    /// turns at the new hull bridges must hold just after `now` too. On
-    /// failure, the two objects of the first corridor without either.
+    /// turns at the new hull bridges must hold just after `now` too. A
+    /// corridor between two polygons outside `set` (the polygons the
+    /// region was made around) may hold junctions against the motion: a
+    /// degeneracy of theirs at the same instant, whose certificates then
+    /// fail at once and are handled as further events of the instant, as
+    /// after any operation. On failure, the two objects of the first
+    /// corridor without either.
     pub fn retriangulation_decomposes(
         &mut self,
         world: &Geo,
         plan: &RemovalPlan,
+        set: &[BodyId],
         now: &Time,
     ) -> Result<(), [Obj; 2]> {
         debug_assert_eq!(
@@ -660,14 +666,18 @@ impl Kss {
             .collect();
         let spliced = self.apply_removal(plan.clone());
         // (a decomposition that holds junctions against the motion is not
-        // one just after `now`: those certificates would fail at once)
+        // one just after `now`: those certificates would fail at once; only
+        // between two polygons outside the set, a degeneracy of theirs)
         // (and the hull must be locally convex just after `now` at the ends
         // of its new bridges: the triangulation's hull is that of the
         // instant tried, and a hull turn can change sign in between)
         let failed = spliced.corrs.iter().find_map(|&k| {
             self.place_middle_bridge(world, k, now);
+            let c = &self.corrs[k.0 as usize];
+            let inside = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
+            let may_hold = !inside(c.a) && !inside(c.b);
             let ok = self.normalize(world, k, now, None).is_ok()
-                && !self.held.contains_key(&k)
+                && (may_hold || !self.held.contains_key(&k))
                 && (self.corrs[k.0 as usize].b != Obj::Omega
                     || self.hull_turns(world, k).iter().all(|(p, _)| {
                         super::local::turn(world, p[0], p[1], p[2], now) != Sign::Negative
