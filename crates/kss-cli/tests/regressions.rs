@@ -216,7 +216,7 @@ fn settled_contacts_are_repaired_locally() {
 /// holding the fewest junctions against the motion), which breaks this one
 /// with no repair.
 #[test]
-fn local_operations_that_cycle_are_repaired_locally() {
+fn local_operations_that_cycle_are_followed_locally() {
     for structure in ["plain", "hierarchical"] {
         let v = stats_of("local_operations_cycle_at_an_instant.json", structure);
         assert_eq!(v["degenerate_rebuilds"], 0, "{structure}: {v}");

@@ -95,9 +95,6 @@ pub struct Kinetic {
     recent: std::collections::VecDeque<[Att; 3]>,
     /// The instant of `recent`.
     recent_at: Option<Time>,
-    /// The instant at which normalization switched to its alternate rule
-    /// ([`Kinetic::alternate_normalization`]).
-    alternate_at: Option<Time>,
     /// Rotates the coarsening candidates.
     tick: u64,
 }
@@ -854,37 +851,73 @@ impl Kinetic {
         out
     }
 
-    /// The corridors among the owners of certificates `ps` with a bridge
-    /// (an end or the middle one) whose two ends are at one place at `now`.
+    /// The corridors among the owners of certificates `ps` (and the
+    /// corridors at the ends of those between two bodies) in which two
+    /// points of two bodies are at one place at `now`: the two ends of a
+    /// bridge (an end or the middle one), two points of a junction (a chain
+    /// vertex resting on a bridge's end), or two points of a hull turn.
+    /// While they rest, a turn through both is zero and has no certificate;
+    /// a motion change that parts them must give the corridor its
+    /// certificates anew.
     fn resting_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
-        let mut out = BTreeSet::new();
+        let meet = |x: Att, y: Att| {
+            if x.obj == y.obj || x.is_omega() || y.is_omega() {
+                return false;
+            }
+            if world.dot_filtered(y, x, y, now.interval()).is_some() {
+                return false;
+            }
+            let d = crate::motion::dot_poly(&world.point(x), &world.point(y), &world.point(y));
+            d.sign_at(now) == Sign::Zero
+        };
+        let mut cands: BTreeSet<CorrId> = BTreeSet::new();
         for p in ps {
             let Some(s) = self.certs.get(p) else {
                 continue;
             };
             for o in &s.owners {
-                let Owner::Corr(k) = *o else { continue };
-                let c = &self.kss.corrs[k.0 as usize];
-                if c.b == Obj::Omega || out.contains(&k) {
-                    continue;
-                }
-                // its bridges: the two ends and the middle one
-                let (a_s, b_s, a_t, b_t) = self.kss.ends(k);
-                let mut bridges = vec![(a_s, b_s), (a_t, b_t)];
-                if let Some((i, j)) = c.mid {
-                    bridges.push((world.cw(a_s, i), world.cw(b_t, j)));
-                }
-                let meet = |(x, y): (Att, Att)| {
-                    if world.dot_filtered(y, x, y, now.interval()).is_some() {
-                        return false;
+                if let Owner::Corr(k) = *o {
+                    if cands.insert(k) && self.kss.corrs[k.0 as usize].b != Obj::Omega {
+                        // (the hull corridors at its ends: a hull turn
+                        // through two resting points has no certificate
+                        // that would name them)
+                        let c = &self.kss.corrs[k.0 as usize];
+                        for tri in [c.s.0, c.t.0] {
+                            cands.extend(self.kss.tris[tri.0 as usize].corr);
+                        }
                     }
-                    let d =
-                        crate::motion::dot_poly(&world.point(x), &world.point(y), &world.point(y));
-                    d.sign_at(now) == Sign::Zero
-                };
-                if bridges.into_iter().any(meet) {
-                    out.insert(k);
                 }
+            }
+        }
+        let mut out = BTreeSet::new();
+        for k in cands {
+            let c = &self.kss.corrs[k.0 as usize];
+            let triples: Vec<[Att; 3]> = if c.b == Obj::Omega {
+                self.kss
+                    .hull_turns(world, k)
+                    .into_iter()
+                    .map(|(p, _)| p)
+                    .collect()
+            } else {
+                let (a_s, b_s, a_t, b_t) = self.kss.ends(k);
+                let mut v = vec![[a_s, b_s, b_s], [a_t, b_t, b_t]];
+                if let Some((i, j)) = c.mid {
+                    let (x, y) = (world.cw(a_s, i), world.cw(b_t, j));
+                    v.push([x, y, y]);
+                }
+                v.extend(
+                    self.kss
+                        .junctions(world, k)
+                        .into_iter()
+                        .map(|j| [j.prev, j.v, j.next]),
+                );
+                v
+            };
+            let rests = triples
+                .iter()
+                .any(|t| meet(t[0], t[1]) || meet(t[1], t[2]) || meet(t[0], t[2]));
+            if rests {
+                out.insert(k);
             }
         }
         out
@@ -1012,8 +1045,9 @@ impl Kinetic {
     /// alone; [`Kss::retriangulation_plan`]), the first for which a plan
     /// exists whose new partition triangles hold on all of `(now, at]` for
     /// its instant `at` and whose new corridors decompose just after `now`
-    /// without holding a junction against the motion (`handled`, the
-    /// failing certificate, is never held); counted as `local_repair`.
+    /// without holding a junction against the motion, except between two
+    /// polygons outside the set (`handled`, the failing certificate, is
+    /// never held); counted as `local_repair`.
     /// The local alternative to [`Kinetic::rebuild_after`] at a settled
     /// contact. Returns `false` when no body gives a repair; the structure
     /// is then unchanged, or half changed if the splice failed (the caller
@@ -1553,7 +1587,9 @@ impl Kinetic {
 
     /// Whether the local operations seem to cycle at `now`: the last
     /// certificate handled was handled three times before at this instant, among
-    /// the last few (the driver then tries [`Kinetic::repair_cycle`]).
+    /// the last few (the driver then switches to the alternate
+    /// normalization, [`Kinetic::alternate_normalization`], and if they
+    /// still cycle tries [`Kinetic::repair_cycle`]).
     pub fn cycling(&self, now: &Time) -> bool {
         self.recent_at.as_ref() == Some(now)
             && self
@@ -1569,15 +1605,14 @@ impl Kinetic {
     /// needlessly, whose failure hands an edge back). `false` if it already
     /// did at `now` (the caller repairs then).
     pub fn alternate_normalization(&mut self, now: &Time) -> bool {
-        if self.alternate_at.as_ref() == Some(now) {
+        if self.kss.fewest_held.as_ref() == Some(now) {
             return false;
         }
         trace!(
             "operations cycle at {}: the alternate normalization",
             now.to_f64()
         );
-        self.alternate_at = Some(now.clone());
-        self.kss.fewest_held = true;
+        self.kss.fewest_held = Some(now.clone());
         self.recent.clear();
         true
     }
@@ -1708,7 +1743,6 @@ impl Kinetic {
             self.recent.clear();
             self.recent_at = Some(t.clone());
         }
-        self.kss.fewest_held = self.alternate_at.as_ref() == Some(&t);
         if self.recent.len() == RECENT {
             self.recent.pop_front();
         }

@@ -647,7 +647,7 @@ impl Kss {
     /// ([`Kss::held`]); the candidates are the middle bridge it had, the
     /// one from just before `t`, none, the walks' results just after `t`
     /// and the bridges between two vertices that touch at `t`, and it takes
-    /// the first that works (with [`Kss::fewest_held`], the one holding the
+    /// the first that works (with [`Kss::fewest_held`] at `t`, the one holding the
     /// fewest). Returns how many walk steps a repair took (0 when nothing
     /// was repaired), or an error if no decomposition was found.
     pub fn normalize(
@@ -710,6 +710,14 @@ impl Kss {
                 candidates.push(Some(m));
             }
         }
+        // (a walked bridge may hold outright: `decompose` walks only where
+        // the four corners are convex)
+        for &m in &candidates[1..] {
+            if m.is_some() && self.faces_valid_on(world, k, m, t, Side::After) {
+                self.corrs[ki].mid = m;
+                return Ok(1);
+            }
+        }
         // (the first candidate that works; or, once the operations at this
         // instant were seen to cycle, the one that holds the fewest
         // junctions against the motion: a junction held needlessly can hand
@@ -719,7 +727,7 @@ impl Kss {
         for m in candidates {
             if let Some(flips) = self.fewest_flips(world, k, m, t) {
                 if best.as_ref().is_none_or(|(_, b)| flips.len() < b.len()) {
-                    let done = flips.len() <= 1 || !self.fewest_held;
+                    let done = flips.len() <= 1 || self.fewest_held.as_ref() != Some(t);
                     best = Some((m, flips));
                     if done {
                         break;
@@ -891,7 +899,9 @@ impl Kss {
     /// chain that coincide at `t`, among the corridor's end vertices and the
     /// points of the certificate being handled (where a vertex touched a
     /// vertex at this instant). Tried only when no other decomposition
-    /// holds: `O(len_a + len_b)` to place the few candidates on the chains.
+    /// holds: the at most seven points are compared first (exact positions
+    /// at `t`), and only a pair that coincides is placed on the chains
+    /// ([`Geo::cw_distance`], `O(len)` with approximations).
     fn touching_bridges(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<(u32, u32)> {
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
@@ -904,27 +914,27 @@ impl Kss {
         let (a_s, b_s, a_t, b_t) = self.ends(k);
         let mut pts: Vec<Att> = vec![a_s, b_s, a_t, b_t];
         pts.extend(self.handling.into_iter().flatten());
-        let offset = |from: Att, len: u32, x: Att| {
-            (x.obj == from.obj)
-                .then(|| (0..=len).find(|&i| step_cw(world, from, i) == x))
-                .flatten()
-        };
+        pts.sort();
+        pts.dedup();
         let mut out = Vec::new();
-        for &x in &pts {
-            let Some(i) = offset(a_s, len_a, x) else {
+        for &x in pts.iter().filter(|x| x.obj == c.a) {
+            let Some(px) = world.position(x, r) else {
                 continue;
             };
-            for &y in &pts {
-                let Some(j) = offset(b_t, len_b, y) else {
+            for &y in pts.iter().filter(|y| y.obj == c.b) {
+                if world.position(y, r).as_ref() != Some(&px) {
+                    continue;
+                }
+                let (Some(i), Some(j)) = (
+                    world.cw_distance(a_s, x, len_a),
+                    world.cw_distance(b_t, y, len_b),
+                ) else {
                     continue;
                 };
                 if (i == 0 && j == len_b) || (i == len_a && j == 0) || out.contains(&(i, j)) {
                     continue;
                 }
-                let (px, py) = (world.position(x, r), world.position(y, r));
-                if px.is_some() && px == py {
-                    out.push((i, j));
-                }
+                out.push((i, j));
             }
         }
         out

@@ -132,11 +132,11 @@ pub struct Kss {
     /// never held against the motion, or its event would repeat for ever.
     pub handling: Option<[Att; 3]>,
     /// How [`Kss::normalize`] chooses among the decompositions that hold
-    /// some junctions against the motion: the first candidate that works
-    /// (`false`, the rule between cycles), or the one holding the fewest
-    /// (`true`: set for the rest of an instant at which the operations
-    /// were seen to cycle, [`engine::Kinetic::alternate_normalization`]).
-    pub fewest_held: bool,
+    /// some junctions against the motion: the first candidate that works,
+    /// or, at this instant (one at which the operations were seen to
+    /// cycle, [`engine::Kinetic::alternate_normalization`]), the one
+    /// holding the fewest.
+    pub fewest_held: Option<crate::num::Time>,
 }
 
 impl Kss {
