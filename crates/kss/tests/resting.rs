@@ -285,3 +285,279 @@ fn a_vertex_resting_on_a_vertex_on_the_hull_then_parted_in_any_direction() {
         }
     }
 }
+
+/// The scenario as the contract's JSON (for a failure message: the run can
+/// be repeated with `kss run`).
+fn scenario_json(s: &Scenario) -> String {
+    let v = |p: [f64; 2]| format!("[{:?},{:?}]", p[0], p[1]);
+    let polys: Vec<String> = s
+        .polygons
+        .iter()
+        .map(|p| {
+            let vs: Vec<String> = p.vertices.iter().map(|&x| v(x)).collect();
+            format!(
+                "{{\"id\":\"{}\",\"vertices\":[{}],\"position\":{},\"velocity\":{},\"fixed\":{}}}",
+                p.id,
+                vs.join(","),
+                v(p.position),
+                v(p.velocity),
+                p.fixed
+            )
+        })
+        .collect();
+    let changes: Vec<String> = s
+        .flight_plan_changes
+        .iter()
+        .map(|c| {
+            format!(
+                "{{\"time\":{:?},\"id\":\"{}\",\"velocity\":{}}}",
+                c.time,
+                c.id,
+                v(c.velocity)
+            )
+        })
+        .collect();
+    let mode = match s.on_collision {
+        CollisionMode::Stop => "stop",
+        CollisionMode::Remove => "remove",
+        CollisionMode::Bounce => "bounce",
+    };
+    format!(
+        "{{\"version\":1,\"until\":{:?},\"on_collision\":\"{mode}\",\"polygons\":[{}],\"flight_plan_changes\":[{}]}}",
+        s.until,
+        polys.join(","),
+        changes.join(",")
+    )
+}
+
+/// Random convex polygons, exact on a grid of eighths.
+fn random_convex(rng: &mut kss::rng::Rng) -> Vec<[f64; 2]> {
+    loop {
+        let n = rng.range_usize(3, 7);
+        let mut pts: Vec<[f64; 2]> = (0..n)
+            .map(|_| {
+                [
+                    rng.range_i64(-16, 16) as f64 / 8.0,
+                    rng.range_i64(-16, 16) as f64 / 8.0,
+                ]
+            })
+            .collect();
+        pts.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+        pts.dedup();
+        // Andrew's monotone chain, counter-clockwise, no collinear points
+        let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+            (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+        };
+        let mut hull: Vec<[f64; 2]> = Vec::new();
+        for pass in 0..2 {
+            let start = hull.len();
+            let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+                Box::new(pts.iter())
+            } else {
+                Box::new(pts.iter().rev())
+            };
+            for &p in iter {
+                while hull.len() >= start + 2
+                    && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+                {
+                    hull.pop();
+                }
+                hull.push(p);
+            }
+            hull.pop();
+        }
+        if hull.len() >= 3 {
+            return hull;
+        }
+    }
+}
+
+/// Whether two convex polygons (counter-clockwise) share interior points
+/// (touching is not overlapping): no edge normal of either separates them.
+fn interiors_overlap(p: &[[f64; 2]], q: &[[f64; 2]]) -> bool {
+    for (poly, other) in [(p, q), (q, p)] {
+        for i in 0..poly.len() {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let n = [b[1] - a[1], a[0] - b[0]];
+            let dot = |x: &[f64; 2]| n[0] * x[0] + n[1] * x[1];
+            let hi = poly.iter().map(dot).fold(f64::MIN, f64::max);
+            let lo = other.iter().map(dot).fold(f64::MAX, f64::min);
+            if lo >= hi {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+fn shifted(p: &[[f64; 2]], d: [f64; 2], s: f64) -> Vec<[f64; 2]> {
+    p.iter()
+        .map(|v| [v[0] + d[0] * s, v[1] + d[1] * s])
+        .collect()
+}
+
+/// A generated family of the hand-made case above: random convex `B`
+/// comes onto random convex `A` (fixed or not) so that a vertex of `B`
+/// touches a vertex or an edge point of `A` at t = 1, stops there (a plan
+/// change), rests until t = 2, and a plan change then moves `A` or `B` in
+/// one of 17 directions; half of them with a third polygon somewhere,
+/// `bounce` or `remove`. All coordinates are exact eighths. The same events
+/// as `brute`, with the audit after every event; the reference's stand-in
+/// and the global rebuild stay rare (at most 1 scenario in 50; all those
+/// measured were a vertex resting on a vertex). A
+/// first version of this family found two more missed certificates at a
+/// motion change (a hull turn whose corridor owned no certificate of the
+/// moving body, and a corridor reached only through an empty one); with
+/// the binary of 350872f 14 of 213 such scenarios (a Python version of the
+/// family) failed the audit. `KSS_SLOW=1` runs 20 times as many.
+#[test]
+fn random_contacts_that_rest_then_part() {
+    const DIRS: [[f64; 2]; 17] = [
+        [1.0, 0.0],
+        [0.0, 1.0],
+        [-1.0, 0.0],
+        [0.0, -1.0],
+        [1.0, 1.0],
+        [-1.0, 1.0],
+        [1.0, -1.0],
+        [-1.0, -1.0],
+        [2.0, 1.0],
+        [1.0, 2.0],
+        [-2.0, 1.0],
+        [-1.0, 2.0],
+        [2.0, -1.0],
+        [1.0, -2.0],
+        [-2.0, -1.0],
+        [-1.0, -2.0],
+        [0.0, 0.0],
+    ];
+    let want_runs = if std::env::var_os("KSS_SLOW").is_some() {
+        4000
+    } else {
+        200
+    };
+    let mut runs = 0;
+    let mut seed = 0u64;
+    let mut fallbacks = [0u64; 2];
+    while runs < want_runs {
+        seed += 1;
+        let mut rng = kss::rng::Rng::new(seed);
+        let a = random_convex(&mut rng);
+        let b = random_convex(&mut rng);
+        let mut touch = a[rng.range_usize(0, a.len() - 1)];
+        let on_edge = rng.chance(0.4);
+        if on_edge {
+            // a point inside one of A's edges
+            let i = a.iter().position(|&v| v == touch).expect("a vertex");
+            let next = a[(i + 1) % a.len()];
+            let f = rng.range_i64(1, 7) as f64 / 8.0;
+            touch = [
+                touch[0] + (next[0] - touch[0]) * f,
+                touch[1] + (next[1] - touch[1]) * f,
+            ];
+        }
+        let bv = b[rng.range_usize(0, b.len() - 1)];
+        let off = [touch[0] - bv[0], touch[1] - bv[1]];
+        let b1 = shifted(&b, off, 1.0);
+        if interiors_overlap(&a, &b1) {
+            continue;
+        }
+        let d = DIRS[rng.range_usize(0, 15)];
+        // B comes from `off + d` at t = 0 along −d, apart until t = 1
+        if (0..8).any(|k| interiors_overlap(&a, &shifted(&b1, d, 1.0 - k as f64 / 8.0)))
+            || shifted(&b1, d, 1.0)
+                .iter()
+                .any(|p| a.iter().any(|q| p == q))
+        {
+            continue;
+        }
+        let a_fixed = rng.chance(0.3);
+        let mut polygons = vec![
+            polygon("A", &a, [0.0, 0.0], [0.0, 0.0], a_fixed),
+            polygon(
+                "B",
+                &b,
+                [off[0] + d[0], off[1] + d[1]],
+                [-d[0], -d[1]],
+                false,
+            ),
+        ];
+        if rng.chance(0.5) {
+            let c = random_convex(&mut rng);
+            let at = [
+                rng.range_i64(-40, 40) as f64 / 4.0,
+                rng.range_i64(-40, 40) as f64 / 4.0,
+            ];
+            let cs = shifted(&c, at, 1.0);
+            if interiors_overlap(&a, &cs)
+                || (0..=8).any(|k| interiors_overlap(&cs, &shifted(&b1, d, k as f64 / 8.0)))
+            {
+                continue;
+            }
+            polygons.push(polygon("C", &c, at, [0.0, 0.0], false));
+        }
+        let who = if a_fixed || rng.chance(0.5) { "B" } else { "A" };
+        let v = DIRS[rng.range_usize(0, 16)];
+        let speed = [0.25, 0.5, 1.0][rng.range_usize(0, 2)];
+        let mode = if rng.chance(0.3) {
+            CollisionMode::Remove
+        } else {
+            CollisionMode::Bounce
+        };
+        let s = Scenario {
+            until: 3.0,
+            on_collision: mode,
+            polygons,
+            flight_plan_changes: vec![
+                change(1.0, "B", [0.0, 0.0]),
+                change(2.0, who, [v[0] * speed, v[1] * speed]),
+            ],
+        };
+        let Ok((want, _)) = events(&s, StructureKind::Brute, false) else {
+            continue; // (touching at the start: not a scenario)
+        };
+        runs += 1;
+        for (si, structure) in [StructureKind::Plain, StructureKind::Hierarchical]
+            .into_iter()
+            .enumerate()
+        {
+            let (got, stats) = events(&s, structure, true).unwrap_or_else(|e| {
+                panic!(
+                    "seed {seed} {}: {e}\n{}",
+                    structure.name(),
+                    scenario_json(&s)
+                )
+            });
+            assert_eq!(
+                got,
+                want,
+                "seed {seed} {}\n{}",
+                structure.name(),
+                scenario_json(&s)
+            );
+            if stats.stand_ins + stats.degenerate_rebuilds > 0 {
+                eprintln!(
+                    "fallback: seed {seed} {} (touch inside an edge: {on_edge}): {} stand-ins, {} rebuilds",
+                    structure.name(),
+                    stats.stand_ins,
+                    stats.degenerate_rebuilds
+                );
+                eprintln!("{}", scenario_json(&s));
+            }
+            fallbacks[si] += stats.stand_ins + stats.degenerate_rebuilds;
+        }
+    }
+    eprintln!(
+        "{runs} scenarios; fallbacks (stand-ins and rebuilds): plain {}, hierarchical {}",
+        fallbacks[0], fallbacks[1]
+    );
+    // (measured in session 16 with `KSS_SLOW=1`, 4000 scenarios: plain 28
+    // stand-ins and 7 rebuilds, the hierarchy 29 and 7, every one where a
+    // vertex touched a vertex; not traced yet)
+    for (name, f) in ["plain", "hierarchical"].iter().zip(fallbacks) {
+        assert!(
+            f * 50 <= runs,
+            "{name}: {f} stand-ins and rebuilds in {runs} scenarios"
+        );
+    }
+}

@@ -670,6 +670,11 @@ impl Kinetic {
         // motions they may part, and the corridor's certificates are then
         // its two junctions again.
         let resting = self.resting_now(world, &touched, now);
+        #[cfg(feature = "trace")]
+        if std::env::var_os("KSS_DUMP").is_some() {
+            eprintln!("resting at {}: {resting:?}", now.to_f64());
+            self.kss.trace_dump();
+        }
         for p in touched {
             let Some(s) = self.certs.get(&p) else {
                 continue;
@@ -852,7 +857,7 @@ impl Kinetic {
     }
 
     /// The corridors among the owners of certificates `ps` (and the
-    /// corridors at the ends of those between two bodies) in which two
+    /// corridors at their ends) in which two
     /// points of two bodies are at one place at `now`: the two ends of a
     /// bridge (an end or the middle one), two points of a junction (a chain
     /// vertex resting on a bridge's end), or two points of a hull turn.
@@ -870,23 +875,23 @@ impl Kinetic {
             let d = crate::motion::dot_poly(&world.point(x), &world.point(y), &world.point(y));
             d.sign_at(now) == Sign::Zero
         };
-        let mut cands: BTreeSet<CorrId> = BTreeSet::new();
-        for p in ps {
-            let Some(s) = self.certs.get(p) else {
-                continue;
-            };
-            for o in &s.owners {
-                if let Owner::Corr(k) = *o {
-                    if cands.insert(k) && self.kss.corrs[k.0 as usize].b != Obj::Omega {
-                        // (the hull corridors at its ends: a hull turn
-                        // through two resting points has no certificate
-                        // that would name them)
-                        let c = &self.kss.corrs[k.0 as usize];
-                        for tri in [c.s.0, c.t.0] {
-                            cands.extend(self.kss.tris[tri.0 as usize].corr);
-                        }
-                    }
-                }
+        let owners: BTreeSet<CorrId> = ps
+            .iter()
+            .filter_map(|p| self.certs.get(p))
+            .flat_map(|s| s.owners.iter())
+            .filter_map(|o| match *o {
+                Owner::Corr(k) => Some(k),
+                Owner::Tri(_) => None,
+            })
+            .collect();
+        // (and the corridors at their ends: a turn through two resting
+        // points has no certificate that would name them, and an empty
+        // corridor has none at all)
+        let mut cands = owners.clone();
+        for k in owners {
+            let c = &self.kss.corrs[k.0 as usize];
+            for tri in [c.s.0, c.t.0] {
+                cands.extend(self.kss.tris[tri.0 as usize].corr);
             }
         }
         let mut out = BTreeSet::new();
@@ -916,6 +921,10 @@ impl Kinetic {
             let rests = triples
                 .iter()
                 .any(|t| meet(t[0], t[1]) || meet(t[1], t[2]) || meet(t[0], t[2]));
+            #[cfg(feature = "trace")]
+            if std::env::var_os("KSS_DUMP").is_some() {
+                eprintln!("resting_now candidate {k:?}: {triples:?} -> {rests}");
+            }
             if rests {
                 out.insert(k);
             }
