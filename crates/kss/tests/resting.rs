@@ -6,7 +6,7 @@
 //! no pair rests in contact, and the structure takes over again (see
 //! ARCHITECTURE.md, "Resting contacts").
 
-use kss::{CollisionMode, FlightPlanChange, PolygonSpec, Scenario, StructureKind};
+use kss::{CollisionMode, FlightPlanChange, PolygonSpec, RunStats, Scenario, StructureKind};
 
 mod common;
 
@@ -34,6 +34,25 @@ fn change(time: f64, id: &str, velocity: [f64; 2]) -> FlightPlanChange {
         id: id.into(),
         velocity,
     }
+}
+
+/// Both structures on `s` with the audit after every event: the same
+/// events as `want` (the reference's), and each one's statistics.
+fn structures_follow(
+    s: &Scenario,
+    want: &common::Events,
+    case: &str,
+) -> Vec<(&'static str, RunStats)> {
+    [StructureKind::Plain, StructureKind::Hierarchical]
+        .into_iter()
+        .map(|structure| {
+            let name = structure.name();
+            let (got, stats) =
+                events(s, structure, true).unwrap_or_else(|e| panic!("{case} {name}: {e}"));
+            assert_eq!(&got, want, "{case} {name}");
+            (name, stats)
+        })
+        .collect()
 }
 
 /// Three polygons meet at the origin at t = 3 (gen_small simultaneous seed
@@ -96,20 +115,16 @@ fn three_polygons_meet_and_one_rests_without_the_reference() {
             (6.0, "t1", "t2")
         ]
     );
-    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-        let (got, stats) = events(&s, structure, true).expect("runs");
-        assert_eq!(got, want, "{}", structure.name());
-        assert_eq!(stats.stand_ins, 0, "{}", structure.name());
-        assert_eq!(stats.degenerate_rebuilds, 0, "{}", structure.name());
+    for (name, stats) in structures_follow(&s, &want, "parting") {
+        assert_eq!(stats.stand_ins, 0, "{name}");
+        assert_eq!(stats.degenerate_rebuilds, 0, "{name}");
     }
     // resting there until the end
     let mut s = s;
     s.flight_plan_changes.truncate(1);
     let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
-    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-        let (got, stats) = events(&s, structure, true).expect("runs");
-        assert_eq!(got, want, "{}", structure.name());
-        assert_eq!(stats.stand_ins, 0, "{}", structure.name());
+    for (name, stats) in structures_follow(&s, &want, "resting") {
+        assert_eq!(stats.stand_ins, 0, "{name}");
     }
 }
 
@@ -195,13 +210,11 @@ fn the_reference_stands_in_while_two_polygons_rest_in_contact() {
         .map(|(t, a, b)| (t.to_f64(), a.as_str(), b.as_str()))
         .collect();
     assert_eq!(pairs, [(1.0, "a0", "b0"), (1.0, "a1", "b1")]);
-    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-        let (got, stats) = events(&s, structure, true).expect("runs");
-        assert_eq!(got, want, "{}", structure.name());
+    for (name, stats) in structures_follow(&s, &want, "apart") {
         // stood in at t = 2, and the structure took over at t = 3
-        assert_eq!(stats.stand_ins, 1, "{}", structure.name());
-        assert_eq!(stats.stand_in_ends, 1, "{}", structure.name());
-        assert!(stats.events_by_kind.len() > 2, "{}", structure.name());
+        assert_eq!(stats.stand_ins, 1, "{name}");
+        assert_eq!(stats.stand_in_ends, 1, "{name}");
+        assert!(stats.events_by_kind.len() > 2, "{name}");
     }
 }
 
@@ -212,11 +225,9 @@ fn a_contact_that_rests_for_ever_keeps_the_reference() {
     let mut s = contact_at_a_plan_change_then_apart();
     s.flight_plan_changes.truncate(1);
     let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
-    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-        let (got, stats) = events(&s, structure, true).expect("runs");
-        assert_eq!(got, want, "{}", structure.name());
-        assert_eq!(stats.stand_ins, 1, "{}", structure.name());
-        assert_eq!(stats.stand_in_ends, 0, "{}", structure.name());
+    for (name, stats) in structures_follow(&s, &want, "for ever") {
+        assert_eq!(stats.stand_ins, 1, "{name}");
+        assert_eq!(stats.stand_in_ends, 0, "{name}");
     }
 }
 
@@ -272,13 +283,10 @@ fn a_vertex_resting_on_a_vertex_on_the_hull_then_parted_in_any_direction() {
                         ],
                     };
                     let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
-                    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-                        let case = format!("{who} moves ({vx}, {vy}), third {third}");
-                        let (got, stats) = events(&s, structure, true)
-                            .unwrap_or_else(|e| panic!("{case} {}: {e}", structure.name()));
-                        assert_eq!(got, want, "{case} {}", structure.name());
-                        assert_eq!(stats.stand_ins, 0, "{case} {}", structure.name());
-                        assert_eq!(stats.degenerate_rebuilds, 0, "{case} {}", structure.name());
+                    let case = format!("{who} moves ({vx}, {vy}), third {third}");
+                    for (name, stats) in structures_follow(&s, &want, &case) {
+                        assert_eq!(stats.stand_ins, 0, "{case} {name}");
+                        assert_eq!(stats.degenerate_rebuilds, 0, "{case} {name}");
                     }
                 }
             }
@@ -517,32 +525,15 @@ fn random_contacts_that_rest_then_part() {
             continue; // (touching at the start: not a scenario)
         };
         runs += 1;
-        for (si, structure) in [StructureKind::Plain, StructureKind::Hierarchical]
-            .into_iter()
-            .enumerate()
-        {
-            let (got, stats) = events(&s, structure, true).unwrap_or_else(|e| {
-                panic!(
-                    "seed {seed} {}: {e}\n{}",
-                    structure.name(),
-                    scenario_json(&s)
-                )
-            });
-            assert_eq!(
-                got,
-                want,
-                "seed {seed} {}\n{}",
-                structure.name(),
-                scenario_json(&s)
-            );
+        let json = scenario_json(&s);
+        let case = format!("seed {seed}\n{json}");
+        for (si, (name, stats)) in structures_follow(&s, &want, &case).into_iter().enumerate() {
             if stats.stand_ins + stats.degenerate_rebuilds > 0 {
                 eprintln!(
-                    "fallback: seed {seed} {} (touch inside an edge: {on_edge}): {} stand-ins, {} rebuilds",
-                    structure.name(),
-                    stats.stand_ins,
-                    stats.degenerate_rebuilds
+                    "fallback: seed {seed} {name} (touch inside an edge: {on_edge}): {} stand-ins, {} rebuilds",
+                    stats.stand_ins, stats.degenerate_rebuilds
                 );
-                eprintln!("{}", scenario_json(&s));
+                eprintln!("{json}");
             }
             fallbacks[si] += stats.stand_ins + stats.degenerate_rebuilds;
         }

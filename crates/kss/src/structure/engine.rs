@@ -865,16 +865,7 @@ impl Kinetic {
     /// a motion change that parts them must give the corridor its
     /// certificates anew.
     fn resting_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
-        let meet = |x: Att, y: Att| {
-            if x.obj == y.obj || x.is_omega() || y.is_omega() {
-                return false;
-            }
-            if world.dot_filtered(y, x, y, now.interval()).is_some() {
-                return false;
-            }
-            let d = crate::motion::dot_poly(&world.point(x), &world.point(y), &world.point(y));
-            d.sign_at(now) == Sign::Zero
-        };
+        let meet = |x: Att, y: Att| super::faces::coincide_at(world, x, y, now);
         let owners: BTreeSet<CorrId> = ps
             .iter()
             .filter_map(|p| self.certs.get(p))

@@ -151,6 +151,19 @@ pub fn coincide_forever(world: &Geo, x: Att, y: Att) -> bool {
     crate::motion::dot_poly(&p, &q, &q).is_zero()
 }
 
+/// Whether vertices `x` and `y` of two bodies are at one place at instant
+/// `t` (an f64 filter on `|x − y|²`, then exact).
+pub fn coincide_at(world: &Geo, x: Att, y: Att, t: &Time) -> bool {
+    if x.obj == y.obj || x.is_omega() || y.is_omega() {
+        return false;
+    }
+    if world.dot_filtered(y, x, y, t.interval()).is_some() {
+        return false;
+    }
+    let (p, q) = (lin(world, x), lin(world, y));
+    crate::motion::dot_poly(&p, &q, &q).sign_at(t) == Sign::Zero
+}
+
 /// Whether two of a partition triangle's corners rest on each other
 /// ([`coincide_forever`]): a triangle with a side of length zero, flat for
 /// as long as they rest (where three polygons met at a point and one of

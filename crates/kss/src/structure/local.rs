@@ -691,17 +691,17 @@ impl Kss {
         // walking the middle bridge: the walk's own tangencies just after
         // the instant give the candidates that go with the end's slide)
         if len_a > 0 && len_b > 0 {
-            let limit = 2 * (len_a + len_b) + 8;
-            for start in [mid, hint, Some((0, 0)), Some((len_a, len_b))]
+            let starts: Vec<(u32, u32)> = [mid, hint, Some((0, 0)), Some((len_a, len_b))]
                 .into_iter()
                 .flatten()
-            {
-                for ty in [Diagonal::SourceToTarget, Diagonal::TargetToSource] {
-                    if let Some((m, _)) = self.walk(world, k, (t, Side::After), start, ty, limit) {
-                        if !candidates.contains(&Some(m)) {
-                            candidates.push(Some(m));
-                        }
-                    }
+                .collect();
+            let walked: Vec<(u32, u32)> = self
+                .walks(world, k, (t, Side::After), &starts)
+                .map(|(m, _)| m)
+                .collect();
+            for m in walked {
+                if !candidates.contains(&Some(m)) {
+                    candidates.push(Some(m));
                 }
             }
         }
@@ -861,16 +861,12 @@ impl Kss {
                 .chain(mid)
                 .chain([(0, 0), (len_a, len_b)])
                 .collect();
-            let limit = 2 * (len_a + len_b) + 8;
-            for &start in &starts {
-                for ty in [Diagonal::SourceToTarget, Diagonal::TargetToSource] {
-                    if let Some((m, steps)) = self.walk(world, k, (t, side), start, ty, limit) {
-                        if self.faces_valid_on(world, k, Some(m), t, side) {
-                            self.corrs[ki].mid = Some(m);
-                            return Some(steps.max(1));
-                        }
-                    }
-                }
+            let found = self
+                .walks(world, k, (t, side), &starts)
+                .find(|&(m, _)| self.faces_valid_on(world, k, Some(m), t, side));
+            if let Some((m, steps)) = found {
+                self.corrs[ki].mid = Some(m);
+                return Some(steps.max(1));
             }
         } else if self.faces_valid_on(world, k, None, t, side) {
             self.corrs[ki].mid = None;
@@ -899,15 +895,13 @@ impl Kss {
     /// chain that coincide at `t`, among the corridor's end vertices and the
     /// points of the certificate being handled (where a vertex touched a
     /// vertex at this instant). Tried only when no other decomposition
-    /// holds: the at most seven points are compared first (exact positions
-    /// at `t`), and only a pair that coincides is placed on the chains
+    /// holds: the at most seven points are compared first
+    /// ([`super::faces::coincide_at`]), and only a pair that coincides is
+    /// placed on the chains
     /// ([`Geo::cw_distance`], `O(len)` with approximations).
     fn touching_bridges(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<(u32, u32)> {
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
-        let Some(r) = t.as_rational() else {
-            return Vec::new();
-        };
         if c.b == Obj::Omega || len_a == 0 || len_b == 0 {
             return Vec::new();
         }
@@ -918,11 +912,8 @@ impl Kss {
         pts.dedup();
         let mut out = Vec::new();
         for &x in pts.iter().filter(|x| x.obj == c.a) {
-            let Some(px) = world.position(x, r) else {
-                continue;
-            };
             for &y in pts.iter().filter(|y| y.obj == c.b) {
-                if world.position(y, r).as_ref() != Some(&px) {
+                if !super::faces::coincide_at(world, x, y, t) {
                     continue;
                 }
                 let (Some(i), Some(j)) = (
@@ -990,6 +981,25 @@ impl Kss {
             }
         }
         out
+    }
+
+    /// The middle bridges reached by walking from each of `starts` with
+    /// either diagonal type ([`Kss::walk`], at most `2(len_a + len_b) + 8`
+    /// steps each), with their walk lengths, lazily and in that order.
+    fn walks<'a>(
+        &'a self,
+        world: &'a Geo,
+        k: CorrId,
+        (t, side): (&'a Time, Side),
+        starts: &'a [(u32, u32)],
+    ) -> impl Iterator<Item = ((u32, u32), u32)> + 'a {
+        let c = &self.corrs[k.0 as usize];
+        let limit = 2 * (c.len_a + c.len_b) + 8;
+        starts.iter().flat_map(move |&start| {
+            [Diagonal::SourceToTarget, Diagonal::TargetToSource]
+                .into_iter()
+                .filter_map(move |ty| self.walk(world, k, (t, side), start, ty, limit))
+        })
     }
 
     /// Walk a middle bridge of diagonal type `ty` from `start` until its four
