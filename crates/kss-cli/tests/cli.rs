@@ -761,6 +761,48 @@ fn run_writes_stats() {
     assert_eq!(v["vertices"], 6);
     assert_eq!(v["collisions"], 1);
     assert!(v["wall_seconds"].as_f64().unwrap() >= 0.0);
+    assert_eq!(
+        v["work"],
+        serde_json::json!({}),
+        "brute has no structure work"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn stats_count_the_structures_work_by_path() {
+    let dir = temp_dir();
+    let scenario = dir.join("s.json");
+    std::fs::write(&scenario, two_triangles("bounce")).unwrap();
+    for structure in ["plain", "hierarchical"] {
+        let stats = dir.join(format!("{structure}.json"));
+        let o = run_kss(
+            &[
+                "run",
+                scenario.to_str().unwrap(),
+                "--structure",
+                structure,
+                "--stats",
+                stats.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        let w = &v["work"];
+        let n = |k: &str| {
+            w[k].as_u64()
+                .unwrap_or_else(|| panic!("work.{k} missing: {w}"))
+        };
+        // the construction and the events evaluate turns and failure times
+        assert!(n("turns_filtered") > 0 && n("failure_times") > 0, "{w}");
+        assert!(n("turns_undecided") <= n("turns_filtered"), "{w}");
+        assert!(n("failure_times_exact") <= n("failure_times"), "{w}");
+        for k in ["turns_exact", "turns_memo", "normalizations", "walks"] {
+            n(k);
+        }
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -65,7 +65,13 @@ pub struct Frame {
     /// Enclosures of `ox/w, oy/w, vx/w, vy/w, m/w` (the f64 filter's view;
     /// a velocity component that is exactly zero is the point `[0, 0]`).
     iv: [Interval; 5],
+    /// A number no other frame made in this process has (a clone keeps
+    /// it: its values are the same): the key of cached enclosures.
+    uid: u64,
 }
+
+/// The next [`Frame::uid`].
+static NEXT_FRAME_UID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 impl Frame {
     /// The frame of a body polygon moving along `traj`.
@@ -108,7 +114,14 @@ impl Frame {
             m,
             w,
             iv,
+            uid: NEXT_FRAME_UID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         }
+    }
+
+    /// A number that identifies this frame's values among all frames made
+    /// in this process (never 0).
+    pub fn uid(&self) -> u64 {
+        self.uid
     }
 
     /// An enclosure of the world position at a time in `t` of the

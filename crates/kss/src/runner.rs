@@ -121,6 +121,10 @@ pub struct RunStats {
     /// Times the structure, built afresh, took over again from the
     /// reference (once no pair rested in contact at an update).
     pub stand_in_ends: u64,
+    /// The kinetic structure's work by kind (construction included; empty
+    /// for `brute`): predicate evaluations by the path they took and
+    /// corridor walks (names in [`crate::structure::counters::NAMES`]).
+    pub work: BTreeMap<String, u64>,
 }
 
 /// Why a run could not complete.
@@ -145,8 +149,17 @@ pub fn run(
     on_event: &mut dyn FnMut(&CollisionEvent),
 ) -> Result<RunStats, RunError> {
     let mut world = World::new(scenario, options.until)?;
+    let before = crate::structure::counters::snapshot();
     let mut engine = make_engine(&world, options)?;
-    let stats = drive(&mut world, engine.as_mut(), options, None, on_event)?;
+    let mut stats = drive(&mut world, engine.as_mut(), options, None, on_event)?;
+    if options.structure != StructureKind::Brute {
+        let after = crate::structure::counters::snapshot();
+        stats.work = crate::structure::counters::NAMES
+            .iter()
+            .zip(after.iter().zip(before))
+            .map(|(name, (a, b))| (name.to_string(), a - b))
+            .collect();
+    }
     Ok(stats)
 }
 

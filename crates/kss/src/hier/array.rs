@@ -546,7 +546,7 @@ impl EdgeArray {
             return None;
         }
         // v's block: real edge v−1 (position 0), its copies, real edge v
-        let first = self.edge_entry[(v + self.n - 1) % self.n];
+        let first = self.edge_entry[if v == 0 { self.n - 1 } else { v - 1 }];
         let mask = self.m() - 1;
         let (pi, pj) = ((i + self.m() - first) & mask, (j + self.m() - first) & mask);
         (pi < pj).then_some(v)

@@ -269,6 +269,18 @@ impl Time {
         }
     }
 
+    /// Whether `self` and `other` are the same instant by their exact
+    /// representations (rationals are reduced and irrational roots carry
+    /// their primitive minimal polynomial, so equal times have equal
+    /// representations). Forces deferred times.
+    pub(crate) fn same_representation(&self, other: &Time) -> bool {
+        match (&self.resolved().kind, &other.resolved().kind) {
+            (Kind::Rat(x), Kind::Rat(y)) => x == y,
+            (Kind::Root(x), Kind::Root(y)) => x == y,
+            _ => false,
+        }
+    }
+
     /// The rational value, if this time is rational.
     pub fn as_rational(&self) -> Option<&Rational> {
         match &self.resolved().kind {

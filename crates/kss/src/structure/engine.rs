@@ -211,6 +211,8 @@ impl ExactTime for DeferredFailure {
 /// itself if it is already wrong just after `now`, else the first later root
 /// where it stops being positive, if any.
 pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
+    use super::counters::{bump, Counter};
+    bump(Counter::FailureTimes);
     if let Some(e) = cert_enclosure(world, c) {
         match filtered_failure(e, now.interval()) {
             Filtered::Never => return None,
@@ -225,6 +227,7 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
             Filtered::Unsure => {}
         }
     }
+    bump(Counter::FailureTimesExact);
     let p = cert_poly(world, c);
     if p.sign_after(now) != Sign::Positive {
         // (a partition triangle flat while two of its corners rest on each
@@ -1985,6 +1988,12 @@ impl Kinetic {
         }
         let mut scheduled = 0;
         for c in &fresh {
+            if let Some(&a) = c.p.iter().find(|&&a| !world.enclosure_cache_agrees(a)) {
+                return Err(format!(
+                    "the cached enclosure of {a:?} (in certificate {:?}) is not the fresh one",
+                    c.p
+                ));
+            }
             let s = self
                 .certs
                 .get(&c.p)

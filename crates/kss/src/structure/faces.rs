@@ -20,7 +20,9 @@ pub fn turn_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> Sign {
     if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
         return s;
     }
-    orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t)
+    world.memo_turn([u, v, w], t, true, || {
+        orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t)
+    })
 }
 
 impl Kss {

@@ -12,12 +12,56 @@
 
 use std::sync::Arc;
 
+use super::memo::PointKey;
 use super::{Att, Obj};
 use crate::geom::Point;
 use crate::hier::{EdgeArray, Exposed, HomPoint};
-use crate::motion::{FramePoint, LinearPoint};
-use crate::num::{Interval, Rational, Sign};
+use crate::motion::{Frame, FramePoint, LinearPoint};
+use crate::num::{Interval, Rational, Sign, Time};
 use crate::world::{BodyId, World};
+
+/// How many linear enclosures [`linear_cached`] keeps (a power of two).
+const LINEAR_CACHE: usize = 1 << 12;
+
+/// One entry of the enclosure cache: frame uid (0: empty), the body-frame
+/// point (approximation vertex `(i, k)`, or `(u32::MAX, v)` for real vertex
+/// `v`), and the enclosure.
+type LinearEntry = (u64, (u32, u32), [Interval; 4]);
+
+thread_local! {
+    /// The linear enclosures of recently seen points, direct-mapped by
+    /// their key: at an event the same few points are enclosed for many
+    /// predicates. A frame's uid is never reused, so an entry is never
+    /// stale: a motion change makes a new frame, and a pop or a merge
+    /// changes which body-frame point an exposed id names (its key).
+    static LINEAR: std::cell::RefCell<[LinearEntry; LINEAR_CACHE]> = const {
+        std::cell::RefCell::new([(0, (0, 0), [Interval { lo: 0.0, hi: 0.0 }; 4]); LINEAR_CACHE])
+    };
+}
+
+/// The linear enclosure of the point `key` of the frame `uid`, from the
+/// cache or from `compute` (then kept, if `Some`).
+fn linear_cached(
+    uid: u64,
+    key: (u32, u32),
+    compute: impl FnOnce() -> Option<[Interval; 4]>,
+) -> Option<[Interval; 4]> {
+    let h = uid
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(u64::from(key.0).wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
+        .wrapping_add(u64::from(key.1).wrapping_mul(0x1656_67B1_9E37_79F9));
+    let slot = (h >> 40) as usize & (LINEAR_CACHE - 1);
+    let hit = LINEAR.with(|c| {
+        let e = c.borrow()[slot];
+        (e.0 == uid && e.1 == key).then_some(e.2)
+    });
+    if hit.is_some() {
+        return hit;
+    }
+    let e = compute()?;
+    LINEAR.with(|c| c.borrow_mut()[slot] = (uid, key, e));
+    Some(e)
+}
 
 /// A body seen through its outer approximation.
 #[derive(Clone, Debug)]
@@ -237,6 +281,48 @@ impl<'a> Geo<'a> {
         }
     }
 
+    /// What vertex `a` is, for [`super::memo`]: its body's frame and its
+    /// body-frame point (`None` for `ω`).
+    pub(crate) fn point_key(&self, a: Att) -> Option<(PointKey, &'a Arc<Frame>)> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let body = self.world.body(b);
+        let key = match self.shapes.approx(b) {
+            None => PointKey::real(&body.frame, a.v as usize),
+            Some(ap) => {
+                let k = a.v as usize;
+                let i = ap.exposed.pred(k)?;
+                match ap.array.av_is_real(i, k) {
+                    Some(v) => PointKey::real(&body.frame, v),
+                    None => PointKey::approx(&body.frame, i, k),
+                }
+            }
+        };
+        Some((key, &body.frame))
+    }
+
+    /// The sign of `orient(u, v, w)` just after (`after`) or before `t`,
+    /// exactly, through the instant's memo of exact turns
+    /// ([`super::memo`]); `compute` is the exact evaluation.
+    pub(crate) fn memo_turn(
+        &self,
+        [u, v, w]: [Att; 3],
+        t: &Time,
+        after: bool,
+        compute: impl FnOnce() -> Sign,
+    ) -> Sign {
+        match (self.point_key(u), self.point_key(v), self.point_key(w)) {
+            (Some((ku, fu)), Some((kv, fv)), Some((kw, fw))) => {
+                super::memo::turn([ku, kv, kw], [fu, fv, fw], t, after, compute)
+            }
+            _ => {
+                super::counters::bump(super::counters::Counter::TurnsExact);
+                compute()
+            }
+        }
+    }
+
     /// Vertex `a` as a body-frame point with its body's frame, to compute
     /// its moving position later ([`FramePoint::linear`] is
     /// [`Geo::point`]`(a)` for the motion of now).
@@ -264,49 +350,82 @@ impl<'a> Geo<'a> {
     /// y0 + y1·t)` (see [`crate::motion::Frame::linear_enclosure`]; `None`
     /// for `ω`).
     pub fn enclose_linear(&self, a: Att) -> Option<[Interval; 4]> {
+        let (b, key) = self.linear_key(a)?;
+        linear_cached(self.world.body(b).frame.uid(), key, || {
+            self.linear_fresh(b, key)
+        })
+    }
+
+    /// The body of `a` and the key of its body-frame point in the
+    /// enclosure cache: `(u32::MAX, v)` for real vertex `v`, `(i, k)` for
+    /// the approximation vertex `av(i, k)` (`None` for `ω` or an id that is
+    /// not exposed).
+    fn linear_key(&self, a: Att) -> Option<(BodyId, (u32, u32))> {
         let Obj::Body(b) = a.obj else {
             return None;
         };
+        let key = match self.shapes.approx(b) {
+            None => (u32::MAX, a.v),
+            Some(ap) => {
+                let k = a.v as usize;
+                if !ap.exposed.contains(k) {
+                    return None;
+                }
+                let i = ap.exposed.pred(k)?;
+                match ap.array.av_is_real(i, k) {
+                    Some(v) => (u32::MAX, v as u32),
+                    None => (i as u32, a.v),
+                }
+            }
+        };
+        Some((b, key))
+    }
+
+    /// [`Geo::enclose_linear`] of the point `key` of body `b`, computed
+    /// afresh (not from the cache).
+    fn linear_fresh(&self, b: BodyId, key: (u32, u32)) -> Option<[Interval; 4]> {
         let body = self.world.body(b);
-        let [x, y] = match self.shapes.approx(b) {
-            None => body.shape.int_vertex_enclosure(a.v as usize),
-            Some(ap) => ap
-                .array
-                .vertex_enclose(&body.shape, &ap.exposed, a.v as usize)?,
+        let [x, y] = if key.0 == u32::MAX {
+            body.shape.int_vertex_enclosure(key.1 as usize)
+        } else {
+            let ap = self.shapes.approx(b)?;
+            ap.array.av_enclose(key.0 as usize, key.1 as usize)?
         };
         Some(body.frame.linear_enclosure(x, y))
+    }
+
+    /// Whether the cached enclosure of `a` ([`Geo::enclose_linear`]) is
+    /// the one computed afresh (the audit's check that the cache never
+    /// answers for another point).
+    pub fn enclosure_cache_agrees(&self, a: Att) -> bool {
+        match self.linear_key(a) {
+            None => self.enclose_linear(a).is_none(),
+            Some((b, key)) => self.enclose_linear(a) == self.linear_fresh(b, key),
+        }
     }
 
     /// An enclosure of `a`'s position at a time in `t` (the f64 filter of
     /// the orientation tests; `None` for `ω`).
     pub fn enclose(&self, a: Att, t: Interval) -> Option<[Interval; 2]> {
-        let Obj::Body(b) = a.obj else {
-            return None;
-        };
-        let body = self.world.body(b);
-        match self.shapes.approx(b) {
-            None => {
-                let [x, y] = body.shape.int_vertex_enclosure(a.v as usize);
-                Some(body.frame.enclose(x, y, t))
-            }
-            Some(ap) => {
-                let [x, y] = ap
-                    .array
-                    .vertex_enclose(&body.shape, &ap.exposed, a.v as usize)?;
-                Some(body.frame.enclose(x, y, t))
-            }
-        }
+        let [x0, x1, y0, y1] = self.enclose_linear(a)?;
+        Some([x0 + x1 * t, y0 + y1 * t])
     }
 
     /// The sign of `orient(u, v, w)` at a time in `t` if the f64 filter
     /// decides it and it is not zero (then it is also the sign just before
     /// and just after that time); `None` otherwise.
     pub fn orient_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
-        crate::geom::orient_enclosed(
+        use super::counters::{bump, Counter};
+        bump(Counter::TurnsFiltered);
+        let s = crate::geom::orient_enclosed(
             self.enclose(u, t)?,
             self.enclose(v, t)?,
             self.enclose(w, t)?,
-        )
+        );
+        if s.is_none() {
+            bump(Counter::TurnsUndecided);
+        }
+        s
     }
 
     /// The sign of `(u − v)·(w − v)` at a time in `t` if the f64 filter

@@ -100,8 +100,10 @@ pub fn turn_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sig
     }
     match side {
         Side::After => turn_after(world, u, v, w, t),
-        Side::Before => crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w))
-            .sign_before(t),
+        Side::Before => world.memo_turn([u, v, w], t, false, || {
+            crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w))
+                .sign_before(t)
+        }),
     }
 }
 
@@ -140,6 +142,7 @@ fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> b
     let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| ivs[i]);
     let tn = |a: Att, b: Att, c: Att| {
         if let (Some(ea), Some(eb), Some(ec)) = (at(a), at(b), at(c)) {
+            super::counters::bump(super::counters::Counter::TurnsFiltered);
             if let Some(s) = crate::geom::orient_enclosed(ea, eb, ec) {
                 return s;
             }
@@ -657,6 +660,7 @@ impl Kss {
         t: &Time,
         hint: Option<(u32, u32)>,
     ) -> Result<u32, String> {
+        super::counters::bump(super::counters::Counter::Normalizations);
         let ki = k.0 as usize;
         let c = &self.corrs[ki];
         if c.b == Obj::Omega || (c.len_a == 0 && c.len_b == 0) {
@@ -1014,6 +1018,7 @@ impl Kss {
         ty: Diagonal,
         limit: u32,
     ) -> Option<((u32, u32), u32)> {
+        super::counters::bump(super::counters::Counter::Walks);
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
         let (a_s, b_s, a_t, b_t) = self.ends(k);

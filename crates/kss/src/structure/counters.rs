@@ -1,0 +1,62 @@
+//! How much work the kinetic structures did: counts of predicate
+//! evaluations by the path they took (the f64 filter, the exact
+//! arithmetic, the memo of the instant) and of the corridor walks, for
+//! `--stats` and for profiling the cost of an event.
+//!
+//! The counts are kept per thread (the predicates are free functions of a
+//! [`super::geo::Geo`], called from deep inside the operations);
+//! [`crate::run`] reports the difference between the counts at its start
+//! and at its end, so two runs interleaved on one thread would share them.
+
+use std::cell::Cell;
+
+/// What is counted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Counter {
+    /// Orientation tests at an instant through the f64 filter.
+    TurnsFiltered,
+    /// Those the filter could not decide.
+    TurnsUndecided,
+    /// Orientations just after or before an instant evaluated exactly.
+    TurnsExact,
+    /// Those answered by the memo of the instant instead.
+    TurnsMemo,
+    /// Certificate failure times computed.
+    FailureTimes,
+    /// Those the filter could not place, computed exactly.
+    FailureTimesExact,
+    /// Corridors normalized after an operation.
+    Normalizations,
+    /// Walks of a middle bridge along a corridor's chains.
+    Walks,
+}
+
+/// The names of the counters, in the order of [`Counter`].
+pub const NAMES: [&str; 8] = [
+    "turns_filtered",
+    "turns_undecided",
+    "turns_exact",
+    "turns_memo",
+    "failure_times",
+    "failure_times_exact",
+    "normalizations",
+    "walks",
+];
+
+thread_local! {
+    static COUNTS: [Cell<u64>; 8] = const { [const { Cell::new(0) }; 8] };
+}
+
+/// Count one `c`.
+#[inline]
+pub(crate) fn bump(c: Counter) {
+    COUNTS.with(|x| {
+        let cell = &x[c as usize];
+        cell.set(cell.get() + 1);
+    });
+}
+
+/// The counts of this thread so far, in the order of [`NAMES`].
+pub fn snapshot() -> [u64; 8] {
+    COUNTS.with(|x| x.each_ref().map(Cell::get))
+}

@@ -1,0 +1,213 @@
+//! A memo of the exact turns of one instant.
+//!
+//! At an event instant the failing certificate's three points are collinear,
+//! and the operations that follow (normalization, the validity of the faces
+//! around them, the junctions' failure times) ask for the same few
+//! orientations "just after" (or "just before") that instant many times
+//! over; where the f64 filter cannot decide them each one is an exact
+//! evaluation with big integers. This memo keeps the exact answers of the
+//! current instant.
+//!
+//! An entry is keyed by what the three points *are*, not by their names:
+//! each point is its body's [`Frame`] (a new one at every motion change,
+//! held by the memo so that its address cannot be reused) and its
+//! body-frame point (a real vertex, or the approximation vertex
+//! `av(i, k)` of the hierarchy's static edge array). A pop, a merge or a
+//! flight-plan change therefore never finds a stale entry: the points it
+//! changes have other keys. The memo is emptied when the instant changes
+//! (any instant that is not provably the same one).
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use crate::motion::Frame;
+use crate::num::{Sign, Time};
+
+/// What a point is: its frame (by address) and its body-frame point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub(crate) struct PointKey {
+    frame: usize,
+    /// `u32::MAX` for a real vertex, else the approximation vertex's `i`.
+    i: u32,
+    /// The real vertex, or the approximation vertex's `k`.
+    k: u32,
+}
+
+impl PointKey {
+    /// The key of real vertex `v` of the body moving by `frame`.
+    pub(crate) fn real(frame: &Arc<Frame>, v: usize) -> PointKey {
+        PointKey {
+            frame: Arc::as_ptr(frame) as usize,
+            i: u32::MAX,
+            k: v as u32,
+        }
+    }
+
+    /// The key of the approximation vertex `av(i, k)` of the body moving by
+    /// `frame`.
+    pub(crate) fn approx(frame: &Arc<Frame>, i: usize, k: usize) -> PointKey {
+        PointKey {
+            frame: Arc::as_ptr(frame) as usize,
+            i: i as u32,
+            k: k as u32,
+        }
+    }
+}
+
+#[derive(Default)]
+struct Memo {
+    at: Option<Time>,
+    /// The frames of the keys by address (held, so that no address is
+    /// reused meanwhile).
+    frames: HashMap<usize, Arc<Frame>>,
+    /// Sorted triple, after (`true`) or before the instant: the sign of the
+    /// sorted triple's orientation.
+    signs: HashMap<([PointKey; 3], bool), Sign>,
+}
+
+thread_local! {
+    static MEMO: RefCell<Memo> = RefCell::new(Memo::default());
+}
+
+/// Whether `a` and `b` are certainly the same instant, cheaply (`false`
+/// may also mean "could not tell cheaply").
+fn same_instant(a: &Time, b: &Time) -> bool {
+    let (x, y) = (a.interval(), b.interval());
+    if x.hi < y.lo || y.hi < x.lo {
+        return false;
+    }
+    a.same_representation(b)
+}
+
+/// The sign of the orientation of the points `keys` (with frames `frames`)
+/// just after (`after`) or before time `t`, from the memo or from
+/// `compute` (which is then remembered).
+pub(crate) fn turn(
+    keys: [PointKey; 3],
+    frames: [&Arc<Frame>; 3],
+    t: &Time,
+    after: bool,
+    compute: impl FnOnce() -> Sign,
+) -> Sign {
+    // sort the keys, counting the transpositions: an odd permutation flips
+    // the orientation
+    let mut k = keys;
+    let mut odd = false;
+    for (x, y) in [(0, 1), (1, 2), (0, 1)] {
+        if k[y] < k[x] {
+            k.swap(x, y);
+            odd = !odd;
+        }
+    }
+    let flip = |s: Sign| if odd { s.neg() } else { s };
+    let hit = MEMO.with(|m| {
+        let mut m = m.borrow_mut();
+        if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
+            m.at = Some(t.clone());
+            m.frames.clear();
+            m.signs.clear();
+            return None;
+        }
+        m.signs.get(&(k, after)).copied()
+    });
+    if let Some(s) = hit {
+        super::counters::bump(super::counters::Counter::TurnsMemo);
+        return flip(s);
+    }
+    super::counters::bump(super::counters::Counter::TurnsExact);
+    let s = compute();
+    MEMO.with(|m| {
+        let mut m = m.borrow_mut();
+        for f in frames {
+            m.frames
+                .entry(Arc::as_ptr(f) as usize)
+                .or_insert_with(|| f.clone());
+        }
+        m.signs.insert((k, after), flip(s));
+    });
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::{BodyPolygon, Point};
+    use crate::motion::Trajectory;
+    use crate::num::Rational;
+
+    fn frame() -> Arc<Frame> {
+        let body = BodyPolygon::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+        let r = |x: f64| Rational::from_f64(x).unwrap();
+        let traj = Trajectory::through(
+            &r(0.0),
+            &Point {
+                x: r(0.0),
+                y: r(0.0),
+            },
+            Point {
+                x: r(1.0),
+                y: r(0.5),
+            },
+        );
+        Arc::new(Frame::new(&traj, &body))
+    }
+
+    fn unused() -> Sign {
+        panic!("the memo should have answered")
+    }
+
+    #[test]
+    fn a_permuted_triple_is_answered_with_the_permutation_sign() {
+        let f = frame();
+        let t = Time::from_f64(0.25).unwrap();
+        let [a, b, c] = [0, 1, 2].map(|v| PointKey::real(&f, v));
+        let fs = [&f, &f, &f];
+        assert_eq!(
+            turn([a, b, c], fs, &t, true, || Sign::Positive),
+            Sign::Positive
+        );
+        // even permutations keep the sign, odd ones flip it
+        assert_eq!(turn([b, c, a], fs, &t, true, unused), Sign::Positive);
+        assert_eq!(turn([c, a, b], fs, &t, true, unused), Sign::Positive);
+        assert_eq!(turn([b, a, c], fs, &t, true, unused), Sign::Negative);
+        assert_eq!(turn([a, c, b], fs, &t, true, unused), Sign::Negative);
+        assert_eq!(turn([c, b, a], fs, &t, true, unused), Sign::Negative);
+        // just before the instant is another question
+        assert_eq!(turn([a, b, c], fs, &t, false, || Sign::Zero), Sign::Zero);
+        assert_eq!(turn([c, b, a], fs, &t, false, unused), Sign::Zero);
+    }
+
+    #[test]
+    fn another_instant_or_another_frame_is_computed_again() {
+        let (f, g) = (frame(), frame());
+        let t = Time::from_f64(0.5).unwrap();
+        let [a, b, c] = [0, 1, 2].map(|v| PointKey::real(&f, v));
+        let fs = [&f, &f, &f];
+        assert_eq!(
+            turn([a, b, c], fs, &t, true, || Sign::Positive),
+            Sign::Positive
+        );
+        // the same points moving by another frame (a motion change)
+        let c2 = PointKey::real(&g, 2);
+        assert_eq!(
+            turn([a, b, c2], [&f, &f, &g], &t, true, || Sign::Negative),
+            Sign::Negative
+        );
+        // the same triple at another instant
+        let u = Time::from_f64(0.75).unwrap();
+        assert_eq!(
+            turn([a, b, c], fs, &u, true, || Sign::Negative),
+            Sign::Negative
+        );
+        // and back at the first instant: the memo was emptied
+        assert_eq!(turn([a, b, c], fs, &t, true, || Sign::Zero), Sign::Zero);
+    }
+
+    #[test]
+    fn an_approximation_vertex_is_not_the_real_vertex_of_the_same_id() {
+        let f = frame();
+        assert_ne!(PointKey::real(&f, 3), PointKey::approx(&f, 2, 3));
+        assert_ne!(PointKey::approx(&f, 1, 3), PointKey::approx(&f, 2, 3));
+    }
+}
