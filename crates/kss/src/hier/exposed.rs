@@ -17,12 +17,30 @@
 
 /// A sorted set of indices in `0..M` with cyclic successor and predecessor,
 /// rank and select (see the module documentation for the representation).
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct Exposed {
     m: usize,
     len: usize,
     bits: Vec<Vec<u64>>,
     fen: Vec<u32>,
+    /// [`Exposed::version`].
+    version: u64,
+}
+
+impl PartialEq for Exposed {
+    fn eq(&self, other: &Exposed) -> bool {
+        // (the version names contents, it is not one of them)
+        self.m == other.m && self.len == other.len && self.bits == other.bits
+    }
+}
+
+impl Eq for Exposed {}
+
+/// The next [`Exposed::version`].
+static NEXT_VERSION: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+fn fresh_version() -> u64 {
+    NEXT_VERSION.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl Exposed {
@@ -45,7 +63,16 @@ impl Exposed {
             len: 0,
             bits,
             fen: vec![0; words0 + 1],
+            version: fresh_version(),
         }
+    }
+
+    /// A number that names the current contents among every set made in
+    /// this process (never 0): every insertion or removal that changes the
+    /// set gives it a new one, and a clone keeps it (its contents are the
+    /// same). Caches key on it.
+    pub fn version(&self) -> u64 {
+        self.version
     }
 
     /// The set of every index in `0..m`.
@@ -100,6 +127,7 @@ impl Exposed {
         }
         self.fen_add(k >> 6, 1);
         self.len += 1;
+        self.version = fresh_version();
         true
     }
 
@@ -119,6 +147,7 @@ impl Exposed {
         }
         self.fen_add(k >> 6, -1);
         self.len -= 1;
+        self.version = fresh_version();
         true
     }
 

@@ -21,7 +21,7 @@ mod time;
 
 pub use dashu_int::IBig as Int;
 pub use interval::Interval;
-pub use poly::{filtered_failure, Filtered, Poly};
+pub use poly::{filtered_failure, filtered_root, Filtered, Poly};
 pub use rational::{decompose_f64, Rational};
 pub use time::{ExactTime, Time};
 

@@ -260,16 +260,18 @@ pub fn filtered_failure(c: [Interval; 3], now: Interval) -> Filtered {
 
 /// [`filtered_failure`] for a function already known to be positive just
 /// after `now`: only where its failure root lies.
-fn filtered_root(c: [Interval; 3], now: Interval) -> Filtered {
+pub fn filtered_root(c: [Interval; 3], now: Interval) -> Filtered {
     let [c0, c1, c2] = c;
     if !now.is_finite() {
         return Filtered::Unsure;
     }
     // a root's enclosure is worth keeping only when it is tight; a wide one
-    // would only make comparisons fall back to the exact path
-    let tight = |r: Interval| {
-        r.is_finite() && r.width() <= (r.lo.abs().max(r.hi.abs()) * 1e-12).max(1e-300)
-    };
+    // would only make comparisons fall back to the exact path. (The
+    // enclosures of the certificates' coefficients are some 1e-13 wide,
+    // relatively, and a root's some 1e-12 to 1e-11: distinct event times
+    // are much further apart than that.)
+    let tight =
+        |r: Interval| r.is_finite() && r.width() <= (r.lo.abs().max(r.hi.abs()) * 1e-9).max(1e-300);
     let after = |r: Interval| {
         if r.lo > now.hi && tight(r) {
             Filtered::At(r)

@@ -273,6 +273,20 @@ impl Time {
     /// representations (rationals are reduced and irrational roots carry
     /// their primitive minimal polynomial, so equal times have equal
     /// representations). Forces deferred times.
+    /// Whether `self` and `other` are certainly the same instant without
+    /// computing a deferred time: one deferred computation shared by both
+    /// (a clone), or two computed times with the same representation.
+    /// `false` may also mean "could not tell cheaply".
+    pub(crate) fn is_known_same(&self, other: &Time) -> bool {
+        match (&self.kind, &other.kind) {
+            (Kind::Deferred(x), Kind::Deferred(y)) => Arc::ptr_eq(x, y),
+            (Kind::Deferred(_), _) | (_, Kind::Deferred(_)) => {
+                !self.is_pending() && !other.is_pending() && self.same_representation(other)
+            }
+            _ => self.same_representation(other),
+        }
+    }
+
     pub(crate) fn same_representation(&self, other: &Time) -> bool {
         match (&self.resolved().kind, &other.resolved().kind) {
             (Kind::Rat(x), Kind::Rat(y)) => x == y,

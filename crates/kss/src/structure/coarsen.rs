@@ -75,7 +75,6 @@ impl Kss {
         tick: u64,
         busy: &dyn Fn(Att, Att) -> bool,
     ) -> Option<Att> {
-        let r = t.as_rational()?.clone();
         let c = self.corrs[k.0 as usize].clone();
         let (a_s, b_s, a_t, b_t) = self.ends(k);
         // candidate chains: A from a_s (len_a), B from b_t (len_b)
@@ -141,7 +140,10 @@ impl Kss {
         if !ap.array.merge_ok(&ap.exposed, kk) {
             return None;
         }
-        // positions at `t`: A (id k), C (id q) now; Z (id q) after
+        // positions at `t`: A (id k), C (id q) now; Z (id q) after (only
+        // at a rational instant; asked last, since it computes a deferred
+        // event time)
+        let r = t.as_rational()?.clone();
         let body = world.body(bid);
         let at =
             |h: crate::hier::HomPoint| body.traj.position_at(&r).add(&h.to_point(body.shape.exp()));

@@ -25,6 +25,12 @@ pub(crate) enum Counter {
     FailureTimes,
     /// Those the filter could not place, computed exactly.
     FailureTimesExact,
+    /// Failure times placed with the sign just after the instant from the
+    /// memo of exact turns (no exact certificate function).
+    FailureTimesMemo,
+    /// Failing checks of due certificates answered without arithmetic
+    /// (the points are those their failure time was computed for).
+    FailingKnown,
     /// Corridors normalized after an operation.
     Normalizations,
     /// Walks of a middle bridge along a corridor's chains.
@@ -32,19 +38,21 @@ pub(crate) enum Counter {
 }
 
 /// The names of the counters, in the order of [`Counter`].
-pub const NAMES: [&str; 8] = [
+pub const NAMES: [&str; 10] = [
     "turns_filtered",
     "turns_undecided",
     "turns_exact",
     "turns_memo",
     "failure_times",
     "failure_times_exact",
+    "failure_times_memo",
+    "failing_known",
     "normalizations",
     "walks",
 ];
 
 thread_local! {
-    static COUNTS: [Cell<u64>; 8] = const { [const { Cell::new(0) }; 8] };
+    static COUNTS: [Cell<u64>; 10] = const { [const { Cell::new(0) }; 10] };
 }
 
 /// Count one `c`.
@@ -57,6 +65,6 @@ pub(crate) fn bump(c: Counter) {
 }
 
 /// The counts of this thread so far, in the order of [`NAMES`].
-pub fn snapshot() -> [u64; 8] {
+pub fn snapshot() -> [u64; 10] {
     COUNTS.with(|x| x.each_ref().map(Cell::get))
 }

@@ -13,7 +13,9 @@ use super::geo::Geo;
 use super::ops::{Outcome, Owner};
 use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::{orient_poly, FramePoint, LinearPoint};
-use crate::num::{filtered_failure, ExactTime, Filtered, Interval, Poly, Rational, Sign, Time};
+use crate::num::{
+    filtered_failure, filtered_root, ExactTime, Filtered, Interval, Poly, Rational, Sign, Time,
+};
 use crate::sim::{EventKey, EventQueue};
 use crate::world::BodyId;
 
@@ -37,6 +39,26 @@ struct Scheduled {
     /// while it waits (a contact reported at the current instant).
     key: Option<EventKey>,
     owners: Vec<Owner>,
+    /// What the three points were ([`Geo::point_id`]) when the failure
+    /// time under `key` was computed, and that time (`None` when it has
+    /// none): while they are the same points, the certificate is known to
+    /// be wrong just after that time, which is a root where it turns
+    /// negative (the flag: `true`) or the instant it was computed at, where
+    /// it is not positive just after ([`failure_time`]).
+    fp: Option<(Fingerprint, Time, bool)>,
+}
+
+/// The identities of a certificate's three points ([`Geo::point_id`]).
+type Fingerprint = [(u64, (u32, u32)); 3];
+
+/// The fingerprint of the points of `p` now (`None` if one is `ω` or not
+/// a vertex of its body's current approximation).
+fn fingerprint(world: &Geo, p: &[Att; 3]) -> Option<Fingerprint> {
+    Some([
+        world.point_id(p[0])?,
+        world.point_id(p[1])?,
+        world.point_id(p[2])?,
+    ])
 }
 
 /// The structure with its certificates scheduled.
@@ -213,23 +235,57 @@ impl ExactTime for DeferredFailure {
 pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     use super::counters::{bump, Counter};
     bump(Counter::FailureTimes);
-    if let Some(e) = cert_enclosure(world, c) {
+    let deferred = |iv: Interval| {
+        let src = DeferredFailure {
+            p: c.p.map(|a| world.frame_point(a)),
+            kind: c.kind,
+            sign: c.sign,
+        };
+        Some(Time::deferred(iv, src))
+    };
+    let e = cert_enclosure(world, c);
+    if let Some(e) = e {
         match filtered_failure(e, now.interval()) {
             Filtered::Never => return None,
-            Filtered::At(iv) => {
-                let src = DeferredFailure {
-                    p: c.p.map(|a| world.frame_point(a)),
-                    kind: c.kind,
-                    sign: c.sign,
-                };
-                return Some(Time::deferred(iv, src));
-            }
+            Filtered::At(iv) => return deferred(iv),
             Filtered::Unsure => {}
         }
     }
+    // the sign just after `now` of an orientation certificate (most often
+    // zero at `now`: its points were collinear at this event) from the
+    // instant's memo of exact turns, when it knows it
+    let orient = c.kind != super::certs::CertKind::Order;
+    let signed = |s: Sign| if c.sign == Sign::Negative { s.neg() } else { s };
+    let known = if orient {
+        world.memo_peek(c.p, now, true).map(signed)
+    } else {
+        None
+    };
+    match (known, e) {
+        (Some(Sign::Negative), _) => {
+            bump(Counter::FailureTimesMemo);
+            return Some(now.clone());
+        }
+        (Some(Sign::Positive), Some(e)) => match filtered_root(e, now.interval()) {
+            Filtered::Never => {
+                bump(Counter::FailureTimesMemo);
+                return None;
+            }
+            Filtered::At(iv) => {
+                bump(Counter::FailureTimesMemo);
+                return deferred(iv);
+            }
+            Filtered::Unsure => {}
+        },
+        _ => {}
+    }
     bump(Counter::FailureTimesExact);
     let p = cert_poly(world, c);
-    if p.sign_after(now) != Sign::Positive {
+    let after = p.sign_after(now);
+    if orient && known.is_none() {
+        world.memo_record(c.p, now, true, signed(after));
+    }
+    if after != Sign::Positive {
         // (a partition triangle flat while two of its corners rest on each
         // other holds until a motion change parts them)
         if resting_flat(world, c, &p) {
@@ -298,6 +354,35 @@ fn bodies_of(p: &[Att; 3]) -> Vec<BodyId> {
 /// `now`).
 fn is_failing(world: &Geo, c: &Cert, now: &Time) -> bool {
     cert_poly(world, c).sign_after(now) != Sign::Positive
+}
+
+/// [`is_failing`] for a certificate that is due at `now` (queued at `now`,
+/// or popped at `now`): known without arithmetic while its points are the
+/// ones its failure time was computed for (`fp`, see [`Scheduled::fp`]),
+/// evaluated exactly otherwise.
+fn due_is_failing(
+    world: &Geo,
+    c: &Cert,
+    fp: &Option<(Fingerprint, Time, bool)>,
+    now: &Time,
+) -> bool {
+    if let Some((f, at, root)) = fp {
+        if Some(*f) == fingerprint(world, &c.p) && at.is_known_same(now) {
+            super::counters::bump(super::counters::Counter::FailingKnown);
+            // (a failure root: negative just after it; the instant's memo
+            // of turns learns that for the orientation)
+            if *root && c.kind != super::certs::CertKind::Order {
+                let s = if c.sign == Sign::Negative {
+                    Sign::Positive
+                } else {
+                    Sign::Negative
+                };
+                world.memo_record(c.p, now, true, s);
+            }
+            return true;
+        }
+    }
+    is_failing(world, c, now)
 }
 
 /// Order among failures at one instant: a vertex against another body's
@@ -506,7 +591,7 @@ impl Kinetic {
             };
             s.owners.retain(|&x| x != o);
             if s.owners.is_empty() {
-                let (cert, key) = (s.cert, s.key);
+                let (cert, key, fp) = (s.cert, s.key, s.fp.clone());
                 let due = self.handling == Some(*p) || self.due_now(p, key, now);
                 if !due && fresh.contains(&cert) {
                     // the same certificate again, not due at this instant:
@@ -515,7 +600,7 @@ impl Kinetic {
                     kept.push(*p);
                     continue;
                 }
-                if self.handling != Some(*p) && due && is_failing(world, &cert, now) {
+                if self.handling != Some(*p) && due && due_is_failing(world, &cert, &fp, now) {
                     pending.insert(*p, cert);
                 }
                 self.drop_cert(p);
@@ -571,10 +656,25 @@ impl Kinetic {
         Ok(())
     }
 
+    /// Queue certificate `c` at its failure time after `now`, if it has
+    /// one: its queue key and [`Scheduled::fp`].
+    fn enqueue(
+        &mut self,
+        world: &Geo,
+        c: &Cert,
+        now: &Time,
+    ) -> (Option<EventKey>, Option<(Fingerprint, Time, bool)>) {
+        let Some(t) = failure_time(world, c, now) else {
+            return (None, None);
+        };
+        let root = !t.is_known_same(now);
+        let fp = fingerprint(world, &c.p).map(|f| (f, t.clone(), root));
+        (Some(self.queue.schedule(t, tie(world, &c.p), c.p)), fp)
+    }
+
     /// Schedule certificate `c`, not yet known, for owner `o`.
     fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) {
-        let key =
-            failure_time(world, &c, now).map(|t| self.queue.schedule(t, tie(world, &c.p), c.p));
+        let (key, fp) = self.enqueue(world, &c, now);
         for b in bodies_of(&c.p) {
             self.by_body.entry(b).or_default().insert(c.p);
         }
@@ -584,6 +684,7 @@ impl Kinetic {
                 cert: c,
                 key,
                 owners: vec![o],
+                fp,
             },
         );
     }
@@ -616,13 +717,16 @@ impl Kinetic {
     }
 
     fn reschedule(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
+        let Some(s) = self.certs.get_mut(p) else {
+            return;
+        };
+        let (c, old) = (s.cert, s.key.take());
+        if let Some(k) = old {
+            self.queue.cancel(k);
+        }
+        let (key, fp) = self.enqueue(world, &c, now);
         if let Some(s) = self.certs.get_mut(p) {
-            if let Some(k) = s.key.take() {
-                self.queue.cancel(k);
-            }
-            let c = s.cert;
-            s.key =
-                failure_time(world, &c, now).map(|t| self.queue.schedule(t, tie(world, &c.p), c.p));
+            (s.key, s.fp) = (key, fp);
         }
         self.max_active = self.max_active.max(self.queue.len());
     }
@@ -1322,7 +1426,7 @@ impl Kinetic {
             if adopted.contains(p) || held.contains(p) {
                 continue;
             }
-            if self.due_now(p, s.key, now) && is_failing(world, &s.cert, now) {
+            if self.due_now(p, s.key, now) && due_is_failing(world, &s.cert, &s.fp, now) {
                 trace!(
                     "splice around {b:?}: certificate {:?} fails at once",
                     s.cert
@@ -1740,7 +1844,7 @@ impl Kinetic {
         if s.key.is_some() {
             return Ok(Step::Deferred(t)); // rescheduled meanwhile
         }
-        let cert = s.cert;
+        let (cert, fp) = (s.cert, s.fp.clone());
         let owners = s.owners.clone();
         if self.recent_at.as_ref() != Some(&t) {
             self.recent.clear();
@@ -1750,7 +1854,7 @@ impl Kinetic {
             self.recent.pop_front();
         }
         self.recent.push_back(p);
-        if cert_poly(world, &cert).sign_after(&t) == Sign::Positive {
+        if !due_is_failing(world, &cert, &fp, &t) {
             // an operation at this instant made it hold again
             self.reschedule(world, &p, &t);
             return Ok(Step::Deferred(t));
@@ -1848,7 +1952,7 @@ impl Kinetic {
                     let due = s
                         .key
                         .is_some_and(|key| self.queue.get(key).is_some_and(|(tq, _)| *tq == t));
-                    (q != p && due && is_failing(world, &s.cert, &t)).then_some((tri, q))
+                    (q != p && due && due_is_failing(world, &s.cert, &s.fp, &t)).then_some((tri, q))
                 });
                 if let Some((_tri, q)) = collapsing {
                     trace!("triangle {} collapses first", _tri.0);

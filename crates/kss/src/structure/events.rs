@@ -184,12 +184,13 @@ fn slides_on_edge(world: &Geo, u: Att, w: Att, t: &Time) -> bool {
 /// certificates are linear).
 pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
     let tiv = t.interval();
-    t.as_rational()?;
     // the vertex z of one body and an edge endpoint x of the other
     let (z, x) = (0..3).find_map(|i| {
         let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
         (x.obj == y.obj && z.obj != x.obj && poly_edge(world, x, y)).then_some((z, x))
     })?;
+    // (asked after the cheap test: it computes a deferred event time)
+    t.as_rational()?;
     let near = |a: Att| [world.cw(a, 1), a, world.ccw(a)];
     // exact signs at `t` from the moving points' integer polynomials (no
     // rational positions: no gcd)

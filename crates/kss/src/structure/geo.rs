@@ -23,17 +23,18 @@ use crate::world::{BodyId, World};
 /// How many linear enclosures [`linear_cached`] keeps (a power of two).
 const LINEAR_CACHE: usize = 1 << 12;
 
-/// One entry of the enclosure cache: frame uid (0: empty), the body-frame
-/// point (approximation vertex `(i, k)`, or `(u32::MAX, v)` for real vertex
-/// `v`), and the enclosure.
-type LinearEntry = (u64, (u32, u32), [Interval; 4]);
+/// One entry of the enclosure cache: frame uid (0: empty), the vertex id
+/// with the version of the exposed set it is read in (0 for a body seen as
+/// its real polygon), and the enclosure.
+type LinearEntry = (u64, (u64, u32), [Interval; 4]);
 
 thread_local! {
     /// The linear enclosures of recently seen points, direct-mapped by
     /// their key: at an event the same few points are enclosed for many
-    /// predicates. A frame's uid is never reused, so an entry is never
-    /// stale: a motion change makes a new frame, and a pop or a merge
-    /// changes which body-frame point an exposed id names (its key).
+    /// predicates. Neither a frame's uid nor an exposed set's version is
+    /// ever reused, so an entry is never stale: a motion change makes a
+    /// new frame, and a pop or a merge (which changes which body-frame
+    /// point an exposed id names) a new version.
     static LINEAR: std::cell::RefCell<[LinearEntry; LINEAR_CACHE]> = const {
         std::cell::RefCell::new([(0, (0, 0), [Interval { lo: 0.0, hi: 0.0 }; 4]); LINEAR_CACHE])
     };
@@ -43,12 +44,12 @@ thread_local! {
 /// cache or from `compute` (then kept, if `Some`).
 fn linear_cached(
     uid: u64,
-    key: (u32, u32),
+    key: (u64, u32),
     compute: impl FnOnce() -> Option<[Interval; 4]>,
 ) -> Option<[Interval; 4]> {
     let h = uid
         .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        .wrapping_add(u64::from(key.0).wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
+        .wrapping_add(key.0.wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
         .wrapping_add(u64::from(key.1).wrapping_mul(0x1656_67B1_9E37_79F9));
     let slot = (h >> 40) as usize & (LINEAR_CACHE - 1);
     let hit = LINEAR.with(|c| {
@@ -323,6 +324,27 @@ impl<'a> Geo<'a> {
         }
     }
 
+    /// The sign of `orient(u, v, w)` just after (`after`) or before `t`, if
+    /// the instant's memo knows it ([`super::memo`]).
+    pub(crate) fn memo_peek(&self, [u, v, w]: [Att; 3], t: &Time, after: bool) -> Option<Sign> {
+        let keys = [
+            self.point_key(u)?.0,
+            self.point_key(v)?.0,
+            self.point_key(w)?.0,
+        ];
+        super::memo::peek(keys, t, after)
+    }
+
+    /// Tell the instant's memo that `orient(u, v, w)` has sign `s` just
+    /// after (`after`) or before `t` (computed exactly).
+    pub(crate) fn memo_record(&self, [u, v, w]: [Att; 3], t: &Time, after: bool, s: Sign) {
+        if let (Some((ku, fu)), Some((kv, fv)), Some((kw, fw))) =
+            (self.point_key(u), self.point_key(v), self.point_key(w))
+        {
+            super::memo::record([ku, kv, kw], [fu, fv, fw], t, after, s);
+        }
+    }
+
     /// Vertex `a` as a body-frame point with its body's frame, to compute
     /// its moving position later ([`FramePoint::linear`] is
     /// [`Geo::point`]`(a)` for the motion of now).
@@ -350,10 +372,23 @@ impl<'a> Geo<'a> {
     /// y0 + y1·t)` (see [`crate::motion::Frame::linear_enclosure`]; `None`
     /// for `ω`).
     pub fn enclose_linear(&self, a: Att) -> Option<[Interval; 4]> {
-        let (b, key) = self.linear_key(a)?;
-        linear_cached(self.world.body(b).frame.uid(), key, || {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let version = self.shapes.approx(b).map_or(0, |ap| ap.exposed.version());
+        linear_cached(self.world.body(b).frame.uid(), (version, a.v), || {
+            let (b, key) = self.linear_key(a)?;
             self.linear_fresh(b, key)
         })
+    }
+
+    /// What point `a` is: its body's [`Frame::uid`] and its body-frame
+    /// point (`(u32::MAX, v)` for real vertex `v`, `(i, k)` for the
+    /// approximation vertex `av(i, k)`); `None` for `ω` or an id that is
+    /// not exposed. Two equal ids are the same moving point.
+    pub fn point_id(&self, a: Att) -> Option<(u64, (u32, u32))> {
+        let (b, key) = self.linear_key(a)?;
+        Some((self.world.body(b).frame.uid(), key))
     }
 
     /// The body of `a` and the key of its body-frame point in the

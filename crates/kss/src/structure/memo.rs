@@ -77,7 +77,62 @@ fn same_instant(a: &Time, b: &Time) -> bool {
     if x.hi < y.lo || y.hi < x.lo {
         return false;
     }
-    a.same_representation(b)
+    a.is_known_same(b) || a.same_representation(b)
+}
+
+/// `keys` sorted, and whether sorting them was an odd permutation (which
+/// flips the orientation).
+fn sorted(keys: [PointKey; 3]) -> ([PointKey; 3], bool) {
+    let mut k = keys;
+    let mut odd = false;
+    for (x, y) in [(0, 1), (1, 2), (0, 1)] {
+        if k[y] < k[x] {
+            k.swap(x, y);
+            odd = !odd;
+        }
+    }
+    (k, odd)
+}
+
+/// The sign of the orientation of the points `keys` just after (`after`)
+/// or before time `t`, if the memo knows it.
+pub(crate) fn peek(keys: [PointKey; 3], t: &Time, after: bool) -> Option<Sign> {
+    let (k, odd) = sorted(keys);
+    let s = MEMO.with(|m| {
+        let m = m.borrow();
+        if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
+            return None;
+        }
+        m.signs.get(&(k, after)).copied()
+    })?;
+    Some(if odd { s.neg() } else { s })
+}
+
+/// Remember `s`, the sign of the orientation of the points `keys` (with
+/// frames `frames`) just after (`after`) or before time `t`, computed
+/// exactly.
+pub(crate) fn record(
+    keys: [PointKey; 3],
+    frames: [&Arc<Frame>; 3],
+    t: &Time,
+    after: bool,
+    s: Sign,
+) {
+    let (k, odd) = sorted(keys);
+    MEMO.with(|m| {
+        let mut m = m.borrow_mut();
+        if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
+            m.at = Some(t.clone());
+            m.frames.clear();
+            m.signs.clear();
+        }
+        for f in frames {
+            m.frames
+                .entry(Arc::as_ptr(f) as usize)
+                .or_insert_with(|| f.clone());
+        }
+        m.signs.insert((k, after), if odd { s.neg() } else { s });
+    });
 }
 
 /// The sign of the orientation of the points `keys` (with frames `frames`)
@@ -90,42 +145,13 @@ pub(crate) fn turn(
     after: bool,
     compute: impl FnOnce() -> Sign,
 ) -> Sign {
-    // sort the keys, counting the transpositions: an odd permutation flips
-    // the orientation
-    let mut k = keys;
-    let mut odd = false;
-    for (x, y) in [(0, 1), (1, 2), (0, 1)] {
-        if k[y] < k[x] {
-            k.swap(x, y);
-            odd = !odd;
-        }
-    }
-    let flip = |s: Sign| if odd { s.neg() } else { s };
-    let hit = MEMO.with(|m| {
-        let mut m = m.borrow_mut();
-        if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
-            m.at = Some(t.clone());
-            m.frames.clear();
-            m.signs.clear();
-            return None;
-        }
-        m.signs.get(&(k, after)).copied()
-    });
-    if let Some(s) = hit {
+    if let Some(s) = peek(keys, t, after) {
         super::counters::bump(super::counters::Counter::TurnsMemo);
-        return flip(s);
+        return s;
     }
     super::counters::bump(super::counters::Counter::TurnsExact);
     let s = compute();
-    MEMO.with(|m| {
-        let mut m = m.borrow_mut();
-        for f in frames {
-            m.frames
-                .entry(Arc::as_ptr(f) as usize)
-                .or_insert_with(|| f.clone());
-        }
-        m.signs.insert((k, after), flip(s));
-    });
+    record(keys, frames, t, after, s);
     s
 }
 
