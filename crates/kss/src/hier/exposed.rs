@@ -313,3 +313,30 @@ fn select_in_word(w: u64, mut r: usize) -> usize {
     }
     pos
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Exposed;
+
+    #[test]
+    fn every_change_gives_a_new_version_and_a_clone_keeps_it() {
+        let mut s = Exposed::from_indices(100, [3, 40, 77]);
+        let v0 = s.version();
+        assert_ne!(v0, 0);
+        let copy = s.clone();
+        assert_eq!(copy.version(), v0);
+        // no change, no new version
+        assert!(!s.insert(40));
+        assert!(!s.remove(41));
+        assert_eq!(s.version(), v0);
+        assert!(s.insert(41));
+        let v1 = s.version();
+        assert_ne!(v1, v0);
+        assert!(s.remove(41));
+        // the same contents again, under a version never seen before
+        assert_eq!(s, copy);
+        assert!(s.version() != v0 && s.version() != v1);
+        // another set never shares a version
+        assert_ne!(Exposed::from_indices(100, [3, 40, 77]).version(), v0);
+    }
+}

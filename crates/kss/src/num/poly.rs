@@ -443,6 +443,47 @@ mod tests {
         assert!(deferred > 1000, "the filter deferred only {deferred} roots");
     }
 
+    /// [`filtered_root`] for functions known (exactly) to be positive just
+    /// after `now`, most of them zero at `now` (the certificates whose sign
+    /// just after an event comes from the memo of exact turns), against
+    /// the exact path; including enclosures that are not points (the
+    /// coefficients perturbed by a few ulps, as the points' f64 views are).
+    #[test]
+    fn filtered_root_of_a_function_positive_just_after_now_agrees() {
+        let mut placed = 0;
+        for r0 in -3i64..=3 {
+            for r1 in -3i64..=3 {
+                for a in [-2i64, -1, 1, 2] {
+                    for scale in [1i64, (1 << 40) + 1] {
+                        // a (t − r0)(t − r1): zero at now = r0
+                        let q = p(a * r0 * r1 * scale, -a * (r0 + r1) * scale, a * scale);
+                        let now = t(r0 as f64);
+                        if q.sign_after(&now) != Sign::Positive {
+                            continue;
+                        }
+                        let exact = q.first_failure_after(&now);
+                        let widen = |x: Interval| Interval {
+                            lo: x.lo - x.lo.abs() * 4.0 * f64::EPSILON,
+                            hi: x.hi + x.hi.abs() * 4.0 * f64::EPSILON,
+                        };
+                        for iv in [q.iv, q.iv.map(widen)] {
+                            match filtered_root(iv, now.interval()) {
+                                Filtered::Never => assert!(exact.is_none(), "{q:?} at {now:?}"),
+                                Filtered::At(r) => {
+                                    let e = exact.clone().expect("a failure");
+                                    assert!(e.interval().overlaps(&r) && r.lo > now.interval().hi);
+                                    placed += 1;
+                                }
+                                Filtered::Unsure => {}
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(placed > 50, "the filter placed only {placed} roots");
+    }
+
     #[test]
     fn deferred_times_order_hash_and_compute_once() {
         use std::collections::hash_map::DefaultHasher;

@@ -180,8 +180,9 @@ fn slides_on_edge(world: &Geo, u: Att, w: Att, t: &Time) -> bool {
 /// vertex of one in a closed edge of the other among the edges and vertices
 /// next to the failing triple. This catches flush edge-against-edge contacts,
 /// where every vertex reaches the other's line at once and the structure's
-/// certificates may all report "beyond the end". `t` must be rational (such
-/// certificates are linear).
+/// certificates may all report "beyond the end". `None` whenever an exact
+/// sign is needed at an irrational `t` (such certificates are linear, their
+/// failures rational).
 pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
     let tiv = t.interval();
     // the vertex z of one body and an edge endpoint x of the other
@@ -189,29 +190,32 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
         let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
         (x.obj == y.obj && z.obj != x.obj && poly_edge(world, x, y)).then_some((z, x))
     })?;
-    // (asked after the cheap test: it computes a deferred event time)
-    t.as_rational()?;
     let near = |a: Att| [world.cw(a, 1), a, world.ccw(a)];
     // exact signs at `t` from the moving points' integer polynomials (no
-    // rational positions: no gcd)
-    let touches = |u: Att, e0: Att, e1: Att| {
+    // rational positions: no gcd); `None` where they are needed at an
+    // irrational `t` (the rationality of a deferred event time is asked
+    // only there: it computes the time)
+    let touches = |u: Att, e0: Att, e1: Att| -> Option<bool> {
         if world.orient_filtered(e0, e1, u, tiv).is_some() {
-            return false;
+            return Some(false);
         }
         // (e0 − u)·(e1 − u) > 0: u is beyond an end of the edge (the usual
         // case here), decided without the exact turn
         if world.dot_filtered(e0, u, e1, tiv) == Some(crate::num::Sign::Positive) {
-            return false;
+            return Some(false);
         }
+        t.as_rational()?;
         let (pu, p0, p1) = (world.point(u), world.point(e0), world.point(e1));
-        crate::motion::orient_poly(&p0, &p1, &pu).sign_at(t) == crate::num::Sign::Zero
-            && crate::motion::dot_poly(&pu, &p0, &p1).sign_at(t) != crate::num::Sign::Positive
+        Some(
+            crate::motion::orient_poly(&p0, &p1, &pu).sign_at(t) == crate::num::Sign::Zero
+                && crate::motion::dot_poly(&pu, &p0, &p1).sign_at(t) != crate::num::Sign::Positive,
+        )
     };
     for (a, b) in [(z, x), (x, z)] {
         let nb = near(b);
         for u in near(a) {
             for e in [(nb[0], nb[1]), (nb[1], nb[2])] {
-                if touches(u, e.0, e.1) {
+                if touches(u, e.0, e.1)? {
                     return Some((body(a), body(b)));
                 }
             }

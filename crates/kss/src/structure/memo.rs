@@ -231,6 +231,24 @@ mod tests {
     }
 
     #[test]
+    fn a_recorded_sign_is_peeked_at_its_instant_only() {
+        let f = frame();
+        let t = Time::from_f64(0.125).unwrap();
+        let [a, b, c] = [0, 1, 2].map(|v| PointKey::real(&f, v));
+        record([a, b, c], [&f, &f, &f], &t, true, Sign::Negative);
+        assert_eq!(peek([c, a, b], &t, true), Some(Sign::Negative));
+        assert_eq!(peek([a, c, b], &t, true), Some(Sign::Positive));
+        // not before the instant, and not at another instant
+        assert_eq!(peek([a, b, c], &t, false), None);
+        assert_eq!(peek([a, b, c], &Time::from_f64(0.375).unwrap(), true), None);
+        // a turn of the instant is answered from the record
+        assert_eq!(
+            turn([b, c, a], [&f, &f, &f], &t, true, unused),
+            Sign::Negative
+        );
+    }
+
+    #[test]
     fn an_approximation_vertex_is_not_the_real_vertex_of_the_same_id() {
         let f = frame();
         assert_ne!(PointKey::real(&f, 3), PointKey::approx(&f, 2, 3));
