@@ -29,7 +29,7 @@ use super::faces::{step_ccw, step_cw};
 use super::geo::{Geo, Shapes};
 use super::{Att, CorrId, Kss, Obj};
 use crate::geom::{orient, Point};
-use crate::num::{Rational, Sign, Time};
+use crate::num::{Interval, Rational, Sign, Time};
 use crate::world::World;
 
 /// Whether the closed segment `(p, q)` and the closed triangle `t` (counter-
@@ -140,38 +140,74 @@ impl Kss {
         if !ap.array.merge_ok(&ap.exposed, kk) {
             return None;
         }
-        // positions at `t`: A (id k), C (id q) now; Z (id q) after (only
-        // at a rational instant; asked last, since it computes a deferred
-        // event time)
+        // positions at `t`: A (id k), C (id q) now; Z (id q) after; the
+        // triangle `big` is ACZ scaled by 2 about the midpoint m of AC (each
+        // corner x becomes 2x − m). Its f64 enclosure first: a segment whose box
+        // misses the triangle's box misses the triangle, and only the
+        // others need the exact positions. (Merges happen at rational
+        // instants only; asked last, since it computes a deferred event
+        // time.)
         let r = t.as_rational()?.clone();
         let body = world.body(bid);
-        let at =
-            |h: crate::hier::HomPoint| body.traj.position_at(&r).add(&h.to_point(body.shape.exp()));
-        let pa = at(ap.array.av(p, kk)?);
-        let pc = at(ap.array.av(kk, q)?);
-        let pz = at(ap.array.av(p, q)?);
-        let m = pa
-            .add(&pc)
-            .scale(&Rational::from_dyadic(crate::num::Int::from(1), -1));
-        let big = [
-            double_about(&m, &pa),
-            double_about(&m, &pc),
-            double_about(&m, &pz),
-        ];
-        let big = if orient(&big[0], &big[1], &big[2]) == Sign::Negative {
-            [big[0].clone(), big[2].clone(), big[1].clone()]
-        } else {
-            big
+        let tiv = t.interval();
+        let enc = |i: usize, j: usize| {
+            let [x, y] = ap.array.av_enclose(i, j)?;
+            Some(body.frame.enclose(x, y, tiv))
         };
-        if orient(&big[0], &big[1], &big[2]) == Sign::Zero {
-            return None;
+        let big_box = match (enc(p, kk), enc(kk, q), enc(p, q)) {
+            (Some(ea), Some(ec), Some(ez)) => {
+                let (half, two) = (Interval::point(0.5), Interval::point(2.0));
+                let m = [(ea[0] + ec[0]) * half, (ea[1] + ec[1]) * half];
+                let scaled = |x: [Interval; 2]| [two * x[0] - m[0], two * x[1] - m[1]];
+                let b = [scaled(ea), scaled(ec), scaled(ez)];
+                if crate::geom::orient_enclosed(b[0], b[1], b[2]).is_some() {
+                    let hull = |d: usize| {
+                        let lo = b[0][d].lo.min(b[1][d].lo).min(b[2][d].lo);
+                        let hi = b[0][d].hi.max(b[1][d].hi).max(b[2][d].hi);
+                        (lo, hi)
+                    };
+                    Some([hull(0), hull(1)])
+                } else {
+                    None
+                }
+            }
+            _ => None,
+        };
+        let exact_big = || -> Option<[Point; 3]> {
+            let at = |h: crate::hier::HomPoint| {
+                body.traj.position_at(&r).add(&h.to_point(body.shape.exp()))
+            };
+            let pa = at(ap.array.av(p, kk)?);
+            let pc = at(ap.array.av(kk, q)?);
+            let pz = at(ap.array.av(p, q)?);
+            let m = pa
+                .add(&pc)
+                .scale(&Rational::from_dyadic(crate::num::Int::from(1), -1));
+            let big = [
+                double_about(&m, &pa),
+                double_about(&m, &pc),
+                double_about(&m, &pz),
+            ];
+            let big = if orient(&big[0], &big[1], &big[2]) == Sign::Negative {
+                [big[0].clone(), big[2].clone(), big[1].clone()]
+            } else {
+                big
+            };
+            if orient(&big[0], &big[1], &big[2]) == Sign::Zero {
+                return None;
+            }
+            Some(big)
+        };
+        let mut exact: Option<[Point; 3]> = None;
+        if big_box.is_none() {
+            // (a flat triangle, or one the filter cannot tell from flat)
+            exact = Some(exact_big()?);
         }
         // everything of the corridor but the merged chain
         let geo = Geo {
             world,
             shapes: &*shapes,
         };
-        let pos = |x: Att| geo.position(x, &r);
         let mut segs: Vec<(Att, Att)> = Vec::new();
         if c.b == Obj::Omega {
             let x = self.other_finite_corner(c.s.0, a_s);
@@ -196,10 +232,23 @@ impl Kss {
             }
         }
         for (u, v) in segs {
-            let (Some(pu), Some(pv)) = (pos(u), pos(v)) else {
+            if let (Some(bb), Some(eu), Some(ev)) =
+                (big_box, geo.enclose(u, tiv), geo.enclose(v, tiv))
+            {
+                let apart =
+                    |d: usize| eu[d].hi.max(ev[d].hi) < bb[d].0 || eu[d].lo.min(ev[d].lo) > bb[d].1;
+                if apart(0) || apart(1) {
+                    continue;
+                }
+            }
+            if exact.is_none() {
+                exact = Some(exact_big()?);
+            }
+            let big = exact.as_ref().expect("computed above");
+            let (Some(pu), Some(pv)) = (geo.position(u, &r), geo.position(v, &r)) else {
                 return None;
             };
-            if segment_meets_triangle(&pu, &pv, &big) {
+            if segment_meets_triangle(&pu, &pv, big) {
                 return None;
             }
         }
