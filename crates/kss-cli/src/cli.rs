@@ -376,8 +376,10 @@ pub struct BenchArgs {
     #[arg(long, value_name = "DIR", default_value = "results")]
     pub out: PathBuf,
     /// Only these workloads: full names (e.g. gas-k1000-n8-c1000, see
-    /// --list) or families (flypast, gas, cluster, swarm, grazing, parallel,
-    /// far).
+    /// --list), sets (cost: the four workloads of the cost per event, two
+    /// bounce swarms in a box, a remove swarm and a gas of 3-16-gons; perf:
+    /// cost, the 10^4-octagon gas and the 2^16-gon flypast) or families
+    /// (flypast, gas, cluster, swarm, grazing, parallel, far, walls, gasmix).
     #[arg(long, value_name = "NAME", num_args = 1..)]
     pub workload: Vec<String>,
     /// Methods, comma-separated: brute, plain, hierarchical, sweep,

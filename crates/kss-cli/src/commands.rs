@@ -676,8 +676,9 @@ pub fn demo(args: &DemoArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The workloads selected by `--workload` (names or families) among the
-/// defaults of the mode.
+/// The workloads selected by `--workload`: full names, named sets (`cost`,
+/// `perf`: the same workloads in quick and full mode) or families (the
+/// family's workloads among the defaults of the mode).
 fn bench_workloads(args: &BenchArgs) -> Result<Vec<kss_bench::workload::Workload>, CliError> {
     use kss_bench::workload::Workload;
     let defaults = if args.quick {
@@ -690,8 +691,10 @@ fn bench_workloads(args: &BenchArgs) -> Result<Vec<kss_bench::workload::Workload
     }
     let mut out: Vec<Workload> = Vec::new();
     for name in &args.workload {
-        let picked: Vec<Workload> = if [
-            "flypast", "gas", "cluster", "swarm", "grazing", "parallel", "far",
+        let picked: Vec<Workload> = if let Some(set) = Workload::set(name) {
+            set
+        } else if [
+            "flypast", "gas", "cluster", "swarm", "grazing", "parallel", "far", "walls", "gasmix",
         ]
         .contains(&name.as_str())
         {

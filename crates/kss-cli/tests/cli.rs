@@ -975,6 +975,64 @@ fn run_survives_a_closed_pipe() {
 }
 
 #[test]
+fn bench_list_expands_the_workload_sets() {
+    let o = run_kss(&["bench", "--list", "--workload", "cost"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let workloads: Vec<String> = stdout(&o)
+        .lines()
+        .filter_map(|l| l.strip_prefix("workload "))
+        .map(String::from)
+        .collect();
+    assert_eq!(
+        workloads,
+        [
+            "walls-k1000-n16-bounce",
+            "walls-k300-n256-bounce",
+            "walls-k2000-n64-remove",
+            "gasmix-k1000-n3to16",
+        ]
+    );
+    let o = run_kss(
+        &[
+            "bench",
+            "--list",
+            "--workload",
+            "perf",
+            "walls-k30-n16-remove",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert_eq!(
+        out.lines().filter(|l| l.starts_with("workload ")).count(),
+        7
+    );
+    assert!(out.contains("workload gas-k10000-n8-c1000\n"));
+    assert!(out.contains("workload flypast-n65536-r1e3\n"));
+    assert!(out.contains("workload walls-k30-n16-remove\n"));
+    // families pick among the defaults of the mode
+    let o = run_kss(
+        &[
+            "bench",
+            "--list",
+            "--quick",
+            "--workload",
+            "walls",
+            "gasmix",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).starts_with("workload walls-k30-n16-bounce\nworkload gasmix-k50-n3to16\n"));
+    let o = run_kss(
+        &["bench", "--list", "--workload", "walls-k30-n16-stop"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
 fn bench_list_survives_a_closed_pipe() {
     // `kss bench --list | head -1`: the reader is gone before the list is
     // written (the process takes longer to start than the drop below)
