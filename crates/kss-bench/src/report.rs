@@ -416,7 +416,9 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
         s.push('\n');
     }
 
-    // 3. events of the exact methods
+    // 3. the cost per event of the issue's workloads, then the events of
+    // the exact methods
+    cost_section(&mut s, run, &workloads);
     events_section(&mut s, run, &workloads);
     flypast_section(&mut s, run, &workloads);
 
@@ -499,6 +501,12 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
          - grazing-p<P>, parallel-p<P>, far-k<K> (beyond the issue's list): P pairs with \
          tangential grazing contacts, P pairs touching flush while moving parallel to \
          edges, a gas of K octagons around coordinates 10^6; `remove` mode.\n\
+         - walls-k<K>-n<N>-bounce / -remove: K regular N-gons of circumradius 0.4 in a \
+         box of walls (`kss gen swarm`), velocities in [-1, 1]², simulated long enough \
+         for about 12 collisions per polygon in `bounce` mode (the same motions and \
+         `until` in `remove` mode).\n\
+         - gasmix-k<K>-n<MIN>to<MAX>: K random convex polygons of MIN to MAX vertices \
+         in a box of walls, `remove` mode, until 10 (`kss gen gas --walls --mode remove`).\n\
          - brute / plain / hierarchical: the kss library (`kss::run`); sweep: kinetic \
          sort-and-sweep of bounding-box endpoints with exact swap times and the \
          library's exact pair times; parry-toi: parry2d-f64 `cast_shapes` for all \
@@ -629,6 +637,102 @@ fn events_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<W
             s.push('\n');
         }
         s.push('\n');
+    }
+}
+
+/// Whether a workload belongs in the cost-per-event section: one of the
+/// `perf` set (which holds the `cost` set) or of the families made for it
+/// (`walls`, `gasmix`), at any size.
+fn is_cost_workload(w: &Workload) -> bool {
+    matches!(w, Workload::Walls { .. } | Workload::GasMix { .. })
+        || Workload::set("perf").is_some_and(|set| set.contains(w))
+}
+
+/// Microseconds with three significant digits, or `—` when there is
+/// nothing to divide by.
+fn micros_per(wall_seconds: f64, count: u64) -> String {
+    if count == 0 {
+        "—".into()
+    } else {
+        format_sig(wall_seconds * 1e6 / count as f64)
+    }
+}
+
+/// The cost per event and per collision of every method, side by side, on
+/// the workloads of the `cost` and `perf` sets (and the small `walls` and
+/// `gasmix` ones of a quick run): wall time, events, collisions, events per
+/// collision, µs per event and per collision. Empty when the run has none
+/// of them.
+fn cost_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<Workload>)]) {
+    let rows: Vec<&String> = workloads
+        .iter()
+        .filter(|(_, w)| w.as_ref().is_some_and(is_cost_workload))
+        .map(|(name, _)| name)
+        .filter(|name| run.methods.iter().any(|me| run.cell(name, me).is_some()))
+        .collect();
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "\n## Cost per event\n");
+    let _ = writeln!(
+        s,
+        "Every method on the workloads of the cost per event, side by side. `wall`: \
+         the whole run of the method on the built scene (for the kss library and sweep, \
+         building the exact world and the structure included); `events` is what each \
+         method counts as one, so `µs / event` compares like with like only between \
+         the kinetic structures: \
+         `plain` / `hierarchical`: every certificate failure (the hierarchy's pops \
+         and merges included), collision and flight-plan change the structure \
+         processed (`kss run --stats`' `events_processed`); \
+         `brute`: only collisions and flight-plan changes (and in `bounce` mode the \
+         end of each bounced body's short bridge), its pair-time computations are \
+         not events; \
+         `sweep`: swaps of bounding-box endpoints, collisions and flight-plan changes; \
+         `parry-toi`: collisions and flight-plan changes only (its time-of-impact \
+         queries are not counted as events), so its `events / collision` is about 1; \
+         `parry-step`: time steps and time-of-impact sub-steps. \
+         `µs / collision` (wall over collisions) compares every method. `—`: \
+         nothing counted to divide by. A method that did not complete shows its \
+         status.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| workload | method | wall | events | collisions | events / collision | µs / event | µs / collision |"
+    );
+    let _ = writeln!(s, "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for w in rows {
+        for me in &run.methods {
+            let Some(c) = run.cell(w, me) else { continue };
+            let o = &c.outcome;
+            let label = method_label(me);
+            if o.status != Status::Ok {
+                let status = if o.status == Status::Budget {
+                    format!("> {}", human_seconds(run.budget_seconds))
+                } else {
+                    status_short(c)
+                };
+                let _ = writeln!(s, "| {w} | {label} | {status} | | | | | |");
+                continue;
+            }
+            let (events, collisions) = (o.counters.events, o.counters.collisions);
+            let per_collision = if collisions == 0 || events == 0 {
+                "—".to_string()
+            } else {
+                format_sig(events as f64 / collisions as f64)
+            };
+            let _ = writeln!(
+                s,
+                "| {w} | {label} | {} | {} | {collisions} | {per_collision} | {} | {} |",
+                human_seconds(o.wall_seconds),
+                if events == 0 {
+                    "—".to_string()
+                } else {
+                    events.to_string()
+                },
+                micros_per(o.wall_seconds, events),
+                micros_per(o.wall_seconds, collisions),
+            );
+        }
     }
 }
 
@@ -1473,4 +1577,85 @@ pub fn write(dir: &Path, run: &BenchRun, m: &Machine) -> std::io::Result<Vec<Pat
         files.push(p);
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::harness::{CellOutcome, CellResult};
+    use crate::Counters;
+
+    fn cell(
+        w: &str,
+        m: &str,
+        status: Status,
+        wall: f64,
+        events: u64,
+        collisions: u64,
+    ) -> CellResult {
+        CellResult {
+            workload: w.into(),
+            method: m.into(),
+            outcome: CellOutcome {
+                status,
+                wall_seconds: wall,
+                setup_seconds: 0.0,
+                sim_seconds: 1.0,
+                counters: Counters {
+                    events,
+                    collisions,
+                    ..Default::default()
+                },
+                peak_rss_kib: None,
+                build_seconds: None,
+            },
+            comparison: None,
+        }
+    }
+
+    #[test]
+    fn cost_section_lists_every_method_of_the_cost_workloads() {
+        let w = "walls-k30-n16-bounce";
+        let run = BenchRun {
+            quick: true,
+            budget_seconds: 5.0,
+            workloads: vec![w.into(), "cluster-k16".into()],
+            methods: vec![
+                "hierarchical".into(),
+                "parry-toi".into(),
+                "parry-step:30".into(),
+            ],
+            references: Default::default(),
+            cells: vec![
+                cell(w, "hierarchical", Status::Ok, 2.0, 40_000, 400),
+                cell(w, "parry-toi", Status::Ok, 0.5, 0, 0),
+                cell(w, "parry-step:30", Status::Budget, 0.0, 0, 0),
+                cell("cluster-k16", "hierarchical", Status::Ok, 1.0, 10, 1),
+            ],
+            total_seconds: 8.0,
+            resumes: 0,
+        };
+        let md = markdown(&run, &machine());
+        let section = &md[md.find("## Cost per event").expect("the section")..];
+        let section = &section[..section[3..].find("\n## ").map_or(section.len(), |i| i + 3)];
+        // 2 s over 40000 events: 50 µs per event, 100 events and 5000 µs per collision
+        assert!(
+            section.contains("| walls-k30-n16-bounce | hierarchical | 2.00 s | 40000 | 400 | 100 | 50.0 | 5000 |"),
+            "{section}"
+        );
+        assert!(
+            section.contains("| walls-k30-n16-bounce | parry-toi | 500.0 ms | — | 0 | — | — | — |"),
+            "{section}"
+        );
+        assert!(
+            section.contains("| walls-k30-n16-bounce | parry-step dt=1/30 | > 5.00 s |"),
+            "{section}"
+        );
+        assert!(!section.contains("cluster-k16"), "{section}");
+        // a run without them has no such section
+        let mut other = run.clone();
+        other.workloads.remove(0);
+        other.cells.retain(|c| c.workload != w);
+        assert!(!markdown(&other, &machine()).contains("## Cost per event"));
+    }
 }

@@ -18,16 +18,32 @@
 //!   in `remove` mode: `grazing-p<P>` (P pairs with tangential contacts:
 //!   vertices sliding along edge lines, vertex-vertex grazes),
 //!   `parallel-p<P>` (P pairs moving parallel to edges, touching flush) and
-//!   `far-k<K>` (a gas of K octagons around coordinates 10^6, slowed down).
+//!   `far-k<K>` (a gas of K octagons around coordinates 10^6, slowed down);
+//! - `walls-k<K>-n<N>-bounce`, `walls-k<K>-n<N>-remove`: K regular N-gons in
+//!   a box of walls, velocities in [-1, 1]², `until` calibrated for about 12
+//!   collisions per polygon in `bounce` mode (`kss::gen::swarm`, the issue's
+//!   "swarm"; the same motions in both modes);
+//! - `gasmix-k<K>-n<MIN>to<MAX>`: K random convex polygons of MIN to MAX
+//!   vertices in a box of walls, `remove` mode, until 10 (`kss gen gas
+//!   --walls --mode remove`).
+//!
+//! Named sets of workloads ([`Workload::set`], [`SETS`]): `cost` (the four workloads
+//! of the cost per event: two bounce swarms, a remove swarm and a gas of
+//! mixed polygons) and `perf` (those and the 10⁴-octagon gas and the
+//! 2¹⁶-gon flypast).
 
 use std::f64::consts::TAU;
 
-use kss::gen::{self, FlypastParams, GasParams};
+use kss::gen::{self, FlypastParams, GasParams, SwarmParams};
 use kss::rng::Rng;
 use kss::{CollisionMode, PolygonSpec, Scenario};
 
 /// The seed of every workload.
 pub const SEED: u64 = 1;
+
+/// Collisions per polygon of the `walls` workloads in `bounce` mode (their
+/// `until`; the `remove` ones use the same).
+const WALLS_COLLISIONS_PER_POLYGON: f64 = 12.0;
 
 /// How much slower the `far` workload moves.
 const FAR_SLOWDOWN: f64 = 1024.0;
@@ -104,6 +120,38 @@ pub enum Workload {
         /// Polygons.
         k: usize,
     },
+    /// Regular n-gons in a box of walls (`kss::gen::swarm`), about 12
+    /// collisions per polygon in `bounce` mode.
+    Walls {
+        /// Moving polygons.
+        k: usize,
+        /// Vertices of each.
+        n: usize,
+        /// `bounce` or `remove` (the same motions and `until` in both).
+        mode: CollisionMode,
+    },
+    /// Random convex polygons of `min_n` to `max_n` vertices in a box of
+    /// walls (`kss::gen::gas`), `remove` mode, until 10.
+    GasMix {
+        /// Moving polygons.
+        k: usize,
+        /// Fewest vertices of a polygon.
+        min_n: usize,
+        /// Most vertices of a polygon.
+        max_n: usize,
+    },
+}
+
+/// The names of the workload sets of [`Workload::set`].
+pub const SETS: [&str; 2] = ["cost", "perf"];
+
+/// The name of a collision mode in workload names.
+fn mode_name(mode: CollisionMode) -> &'static str {
+    match mode {
+        CollisionMode::Stop => "stop",
+        CollisionMode::Remove => "remove",
+        CollisionMode::Bounce => "bounce",
+    }
 }
 
 fn ratio_name(r: f64) -> String {
@@ -137,6 +185,54 @@ impl Workload {
             Workload::Grazing { pairs } => format!("grazing-p{pairs}"),
             Workload::Parallel { pairs } => format!("parallel-p{pairs}"),
             Workload::Far { k } => format!("far-k{k}"),
+            Workload::Walls { k, n, mode } => format!("walls-k{k}-n{n}-{}", mode_name(*mode)),
+            Workload::GasMix { k, min_n, max_n } => format!("gasmix-k{k}-n{min_n}to{max_n}"),
+        }
+    }
+
+    /// The workloads of the set called `name` (one of [`SETS`]), if it is one.
+    pub fn set(name: &str) -> Option<Vec<Workload>> {
+        let cost = || {
+            vec![
+                Workload::Walls {
+                    k: 1000,
+                    n: 16,
+                    mode: CollisionMode::Bounce,
+                },
+                Workload::Walls {
+                    k: 300,
+                    n: 256,
+                    mode: CollisionMode::Bounce,
+                },
+                Workload::Walls {
+                    k: 2000,
+                    n: 64,
+                    mode: CollisionMode::Remove,
+                },
+                Workload::GasMix {
+                    k: 1000,
+                    min_n: 3,
+                    max_n: 16,
+                },
+            ]
+        };
+        match name {
+            "cost" => Some(cost()),
+            "perf" => {
+                let mut w = cost();
+                w.push(Workload::Gas {
+                    k: 10_000,
+                    n: 8,
+                    collisions: 1000,
+                });
+                w.push(Workload::Flypast {
+                    n: 1 << 16,
+                    ratio: 1e3,
+                    seed: SEED,
+                });
+                Some(w)
+            }
+            _ => None,
         }
     }
 
@@ -144,7 +240,7 @@ impl Workload {
     pub fn parse(s: &str) -> Result<Workload, String> {
         let bad = || {
             format!(
-                "bad workload name {s:?}: expected flypast-n<N>-r<D/s>[-s<SEED>], gas-k<K>-n<N>-c<C>, cluster-k<K>, swarm-k<K>, grazing-p<P>, parallel-p<P> or far-k<K>"
+                "bad workload name {s:?}: expected flypast-n<N>-r<D/s>[-s<SEED>], gas-k<K>-n<N>-c<C>, cluster-k<K>, swarm-k<K>, grazing-p<P>, parallel-p<P>, far-k<K>, walls-k<K>-n<N>-<bounce|remove> or gasmix-k<K>-n<MIN>to<MAX>"
             )
         };
         let parts: Vec<&str> = s.split('-').collect();
@@ -187,6 +283,26 @@ impl Workload {
                 pairs: int(p, "p")?,
             },
             ["far", k] => Workload::Far { k: int(k, "k")? },
+            ["walls", k, n, mode] => Workload::Walls {
+                k: int(k, "k")?,
+                n: int(n, "n")?,
+                mode: match *mode {
+                    "bounce" => CollisionMode::Bounce,
+                    "remove" => CollisionMode::Remove,
+                    _ => return Err(bad()),
+                },
+            },
+            ["gasmix", k, n] => {
+                let (min_n, max_n) = n
+                    .strip_prefix('n')
+                    .and_then(|x| x.split_once("to"))
+                    .ok_or_else(bad)?;
+                Workload::GasMix {
+                    k: int(k, "k")?,
+                    min_n: int(min_n, "")?,
+                    max_n: int(max_n, "")?,
+                }
+            }
             _ => return Err(bad()),
         };
         w.check()?;
@@ -205,6 +321,14 @@ impl Workload {
             Workload::Grazing { pairs } | Workload::Parallel { pairs } => {
                 (1..=100_000).contains(pairs)
             }
+            Workload::Walls { k, n, mode } => {
+                (1..=1 << 20).contains(k)
+                    && (3..=1 << 16).contains(n)
+                    && *mode != CollisionMode::Stop
+            }
+            Workload::GasMix { k, min_n, max_n } => {
+                (1..=1 << 20).contains(k) && *min_n >= 3 && (*min_n..=1 << 16).contains(max_n)
+            }
         };
         if ok {
             Ok(())
@@ -213,7 +337,8 @@ impl Workload {
         }
     }
 
-    /// The family (`flypast`, `gas`, `cluster`, `swarm`).
+    /// The family (`flypast`, `gas`, `cluster`, `swarm`, `grazing`,
+    /// `parallel`, `far`, `walls`, `gasmix`).
     pub fn family(&self) -> &'static str {
         match self {
             Workload::Flypast { .. } => "flypast",
@@ -223,6 +348,8 @@ impl Workload {
             Workload::Grazing { .. } => "grazing",
             Workload::Parallel { .. } => "parallel",
             Workload::Far { .. } => "far",
+            Workload::Walls { .. } => "walls",
+            Workload::GasMix { .. } => "gasmix",
         }
     }
 
@@ -241,6 +368,12 @@ impl Workload {
             Workload::Grazing { pairs } => ("grazing".into(), *pairs as f64),
             Workload::Parallel { pairs } => ("parallel".into(), *pairs as f64),
             Workload::Far { k } => ("far".into(), *k as f64),
+            Workload::Walls { k, n, mode } => {
+                (format!("walls n={n} {}", mode_name(*mode)), *k as f64)
+            }
+            Workload::GasMix { k, min_n, max_n } => {
+                (format!("gasmix n={min_n}..{max_n}"), *k as f64)
+            }
         }
     }
 
@@ -251,14 +384,17 @@ impl Workload {
             Workload::Gas { k, n, .. } => k * n + 16,
             Workload::Cluster { k } | Workload::Swarm { k } | Workload::Far { k } => 8 * k,
             Workload::Grazing { pairs } | Workload::Parallel { pairs } => 16 * pairs,
+            Workload::Walls { k, n, .. } => k * n + 16,
+            Workload::GasMix { k, max_n, .. } => k * max_n + 16,
         }
     }
 
     /// The pair computations of an all-pairs method on this workload, as a
     /// cost model for predicting its growth: every pair of bodies once at
     /// the start, and in `bounce` mode (the gas, with about as many
-    /// collisions as the name says) both bodies of a collision against all
-    /// others again. Flypast: one pair, however large the polygons.
+    /// collisions as the name says; the bouncing walls swarm, with about 12
+    /// per polygon) both bodies of a collision against all others again.
+    /// Flypast: one pair, however large the polygons.
     pub fn all_pairs_work(&self) -> f64 {
         let pairs = |bodies: usize| bodies as f64 * (bodies as f64 - 1.0) / 2.0;
         match *self {
@@ -269,6 +405,16 @@ impl Workload {
             }
             Workload::Cluster { k } | Workload::Swarm { k } | Workload::Far { k } => pairs(k),
             Workload::Grazing { pairs: p } | Workload::Parallel { pairs: p } => pairs(2 * p),
+            Workload::Walls { k, mode, .. } => {
+                let bodies = k + 4;
+                let bounces = if mode == CollisionMode::Bounce {
+                    WALLS_COLLISIONS_PER_POLYGON * k as f64
+                } else {
+                    0.0
+                };
+                pairs(bodies) + 2.0 * bounces * bodies as f64
+            }
+            Workload::GasMix { k, .. } => pairs(k + 4),
         }
     }
 
@@ -293,6 +439,7 @@ impl Workload {
         match self {
             Workload::Flypast { .. } => CollisionMode::Stop,
             Workload::Gas { .. } => CollisionMode::Bounce,
+            Workload::Walls { mode, .. } => *mode,
             _ => CollisionMode::Remove,
         }
     }
@@ -368,6 +515,25 @@ impl Workload {
                 offset: 1.0e6,
                 slowdown: FAR_SLOWDOWN,
             }),
+            Workload::Walls { k, n, mode } => gen::swarm(&SwarmParams {
+                k,
+                n,
+                mode,
+                collisions_per_polygon: WALLS_COLLISIONS_PER_POLYGON,
+                until: None,
+                seed: SEED,
+            }),
+            Workload::GasMix { k, min_n, max_n } => gen::gas(&GasParams {
+                k,
+                min_n,
+                max_n,
+                walls: true,
+                mode: CollisionMode::Remove,
+                until: 10.0,
+                max_speed: 1.0,
+                changes: 0,
+                seed: SEED,
+            }),
         }
     }
 
@@ -397,6 +563,16 @@ impl Workload {
         w.push(Workload::Grazing { pairs: 50 });
         w.push(Workload::Parallel { pairs: 50 });
         w.push(Workload::Far { k: 100 });
+        w.push(Workload::Walls {
+            k: 30,
+            n: 16,
+            mode: CollisionMode::Bounce,
+        });
+        w.push(Workload::GasMix {
+            k: 50,
+            min_n: 3,
+            max_n: 16,
+        });
         w
     }
 
@@ -434,6 +610,7 @@ impl Workload {
         for k in [100, 1000, 10_000] {
             w.push(Workload::Far { k });
         }
+        w.extend(Workload::set("cost").expect("the cost set"));
         w
     }
 }
@@ -463,5 +640,124 @@ fn cluster(k: usize) -> Scenario {
         on_collision: CollisionMode::Remove,
         polygons,
         flight_plan_changes: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sets_name_the_cost_workloads() {
+        let names = |set: &str| -> Vec<String> {
+            Workload::set(set)
+                .unwrap()
+                .iter()
+                .map(Workload::name)
+                .collect()
+        };
+        assert_eq!(
+            names("cost"),
+            [
+                "walls-k1000-n16-bounce",
+                "walls-k300-n256-bounce",
+                "walls-k2000-n64-remove",
+                "gasmix-k1000-n3to16",
+            ]
+        );
+        let perf = names("perf");
+        assert_eq!(perf[..4], names("cost")[..]);
+        assert_eq!(perf[4..], ["gas-k10000-n8-c1000", "flypast-n65536-r1e3"]);
+        for set in SETS {
+            for w in Workload::set(set).unwrap() {
+                assert_eq!(Workload::parse(&w.name()), Ok(w.clone()));
+            }
+        }
+        assert!(Workload::set("walls").is_none());
+        let full = Workload::full();
+        assert!(Workload::set("cost")
+            .unwrap()
+            .iter()
+            .all(|w| full.contains(w)));
+    }
+
+    #[test]
+    fn walls_and_gasmix_parse_and_describe_themselves() {
+        let w = Workload::parse("walls-k300-n256-bounce").unwrap();
+        assert_eq!(
+            w,
+            Workload::Walls {
+                k: 300,
+                n: 256,
+                mode: CollisionMode::Bounce
+            }
+        );
+        assert_eq!(w.family(), "walls");
+        assert_eq!(w.mode(), CollisionMode::Bounce);
+        assert_eq!(w.series(), ("walls n=256 bounce".to_string(), 300.0));
+        assert_eq!(w.vertices(), 300 * 256 + 16);
+        assert_eq!(w.time_scale(), 1.0);
+        let remove = Workload::parse("walls-k300-n256-remove").unwrap();
+        assert_eq!(remove.mode(), CollisionMode::Remove);
+        assert!(remove.all_pairs_work() < w.all_pairs_work());
+        let g = Workload::parse("gasmix-k1000-n3to16").unwrap();
+        assert_eq!(
+            g,
+            Workload::GasMix {
+                k: 1000,
+                min_n: 3,
+                max_n: 16
+            }
+        );
+        assert_eq!(g.family(), "gasmix");
+        assert_eq!(g.mode(), CollisionMode::Remove);
+        assert_eq!(g.all_pairs_work(), 1004.0 * 1003.0 / 2.0);
+        // the old sparse octagon swarm keeps its name
+        assert_eq!(
+            Workload::parse("swarm-k1000").unwrap(),
+            Workload::Swarm { k: 1000 }
+        );
+        for bad in [
+            "walls-k10-n8-stop",
+            "walls-k10-n8",
+            "walls-k0-n8-bounce",
+            "walls-k10-n2-remove",
+            "gasmix-k10-n5to3",
+            "gasmix-k10-n2to8",
+            "gasmix-k10-n3-16",
+            "gasmix-k10-n3",
+        ] {
+            assert!(Workload::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn walls_and_gasmix_build_their_scenarios() {
+        let bounce = Workload::parse("walls-k30-n16-bounce").unwrap().scenario();
+        let remove = Workload::parse("walls-k30-n16-remove").unwrap().scenario();
+        assert_eq!(bounce.on_collision, CollisionMode::Bounce);
+        assert_eq!(remove.on_collision, CollisionMode::Remove);
+        assert_eq!(bounce.polygons, remove.polygons);
+        assert_eq!(bounce.until, remove.until);
+        assert_eq!(
+            bounce,
+            gen::swarm(&SwarmParams {
+                k: 30,
+                n: 16,
+                seed: SEED,
+                ..Default::default()
+            })
+        );
+        bounce.validate().unwrap();
+        let g = Workload::parse("gasmix-k50-n3to16").unwrap().scenario();
+        assert_eq!(g.on_collision, CollisionMode::Remove);
+        assert_eq!(g.until, 10.0);
+        assert_eq!(g.polygons.len(), 54);
+        assert!(g
+            .polygons
+            .iter()
+            .filter(|p| !p.fixed)
+            .all(|p| (3..=16).contains(&p.vertices.len())));
+        g.validate().unwrap();
     }
 }

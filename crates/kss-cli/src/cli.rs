@@ -164,7 +164,8 @@ pub struct GenArgs {
     /// Seed of the generator (same seed, same scenario, forever).
     #[arg(long, global = true, default_value_t = 0)]
     pub seed: u64,
-    /// Collision mode (default: bounce for gas and far, stop for the others).
+    /// Collision mode (default: bounce for gas, far and swarm, stop for the
+    /// others).
     #[arg(long, global = true, value_enum)]
     pub mode: Option<ModeArg>,
     /// Make the small random instance of the test sweeps for this seed
@@ -188,6 +189,9 @@ pub enum GenFamily {
     Parallel(DegenerateArgs),
     /// A gas scene translated to coordinates around 1e6, slowed down.
     Far(FarArgs),
+    /// Regular n-gons in a box of walls, velocities in [-1, 1]², about 12
+    /// collisions per polygon (bounce mode by default).
+    Swarm(SwarmArgs),
 }
 
 /// Options of `kss gen flypast`.
@@ -255,6 +259,24 @@ pub struct FarArgs {
     /// Velocities divided (and times multiplied) by this power of two.
     #[arg(long, value_parser = parse_positive)]
     pub slowdown: Option<f64>,
+}
+
+/// Options of `kss gen swarm`.
+#[derive(Debug, Args)]
+pub struct SwarmArgs {
+    /// Number of moving polygons.
+    #[arg(long)]
+    pub k: Option<usize>,
+    /// Vertices of every polygon.
+    #[arg(long)]
+    pub n: Option<usize>,
+    /// About this many collisions per polygon in bounce mode: sets the
+    /// calibrated `until` (default 12).
+    #[arg(long, value_name = "C", value_parser = parse_positive, conflicts_with = "until")]
+    pub collisions: Option<f64>,
+    /// End of the simulated interval instead of the calibrated one.
+    #[arg(long, value_parser = parse_positive)]
+    pub until: Option<f64>,
 }
 
 /// Options of `kss gen simultaneous`.
@@ -354,8 +376,10 @@ pub struct BenchArgs {
     #[arg(long, value_name = "DIR", default_value = "results")]
     pub out: PathBuf,
     /// Only these workloads: full names (e.g. gas-k1000-n8-c1000, see
-    /// --list) or families (flypast, gas, cluster, swarm, grazing, parallel,
-    /// far).
+    /// --list), sets (cost: the four workloads of the cost per event, two
+    /// bounce swarms in a box, a remove swarm and a gas of 3-16-gons; perf:
+    /// cost, the 10^4-octagon gas and the 2^16-gon flypast) or families
+    /// (flypast, gas, cluster, swarm, grazing, parallel, far, walls, gasmix).
     #[arg(long, value_name = "NAME", num_args = 1..)]
     pub workload: Vec<String>,
     /// Methods, comma-separated: brute, plain, hierarchical, sweep,

@@ -365,14 +365,21 @@ fn gas_args_given(a: &GasArgs) -> bool {
 /// Builds the scenario `kss gen` asks for (also used by tests).
 pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
     let family = match &args.family {
-        GenFamily::Flypast(_) => gen::Family::Flypast,
-        GenFamily::Gas(_) => gen::Family::Gas,
-        GenFamily::Simultaneous(_) => gen::Family::Simultaneous,
-        GenFamily::Grazing(_) => gen::Family::Grazing,
-        GenFamily::Parallel(_) => gen::Family::Parallel,
-        GenFamily::Far(_) => gen::Family::Far,
+        GenFamily::Flypast(_) => Some(gen::Family::Flypast),
+        GenFamily::Gas(_) => Some(gen::Family::Gas),
+        GenFamily::Simultaneous(_) => Some(gen::Family::Simultaneous),
+        GenFamily::Grazing(_) => Some(gen::Family::Grazing),
+        GenFamily::Parallel(_) => Some(gen::Family::Parallel),
+        GenFamily::Far(_) => Some(gen::Family::Far),
+        GenFamily::Swarm(_) => None,
     };
     if args.small {
+        let Some(family) = family else {
+            return Err(CliError::new(
+                ErrorKind::Usage,
+                "--small: swarm has no small instance of the test sweeps; give --k and --n",
+            ));
+        };
         let other = args.mode.is_some()
             || match &args.family {
                 GenFamily::Flypast(a) => {
@@ -391,6 +398,7 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 GenFamily::Grazing(a) | GenFamily::Parallel(a) => {
                     a.pairs.is_some() || a.until.is_some()
                 }
+                GenFamily::Swarm(_) => unreachable!("swarm has no small instance"),
             };
         if other {
             return Err(CliError::new(
@@ -468,11 +476,39 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 seed: args.seed,
             };
             p.check().map_err(invalid)?;
-            if family == gen::Family::Grazing {
+            if family == Some(gen::Family::Grazing) {
                 gen::grazing(&p)
             } else {
                 gen::parallel(&p)
             }
+        }
+        GenFamily::Swarm(a) => {
+            let d = gen::SwarmParams::default();
+            let p = gen::SwarmParams {
+                k: a.k.unwrap_or(d.k),
+                n: a.n.unwrap_or(d.n),
+                mode: mode_or(args, d.mode),
+                collisions_per_polygon: a.collisions.unwrap_or(d.collisions_per_polygon),
+                until: a.until,
+                seed: args.seed,
+            };
+            p.check().map_err(invalid)?;
+            let sc = gen::swarm(&p);
+            eprintln!(
+                "kss gen swarm: {} regular {}-gons, until {}{}",
+                p.k,
+                p.n,
+                sc.until,
+                if p.until.is_none() {
+                    format!(
+                        " (calibrated for about {} collisions per polygon in bounce mode)",
+                        p.collisions_per_polygon
+                    )
+                } else {
+                    String::new()
+                }
+            );
+            sc
         }
     };
     Ok(scenario)
@@ -640,8 +676,9 @@ pub fn demo(args: &DemoArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The workloads selected by `--workload` (names or families) among the
-/// defaults of the mode.
+/// The workloads selected by `--workload`: full names, named sets (`cost`,
+/// `perf`: the same workloads in quick and full mode) or families (the
+/// family's workloads among the defaults of the mode).
 fn bench_workloads(args: &BenchArgs) -> Result<Vec<kss_bench::workload::Workload>, CliError> {
     use kss_bench::workload::Workload;
     let defaults = if args.quick {
@@ -654,8 +691,10 @@ fn bench_workloads(args: &BenchArgs) -> Result<Vec<kss_bench::workload::Workload
     }
     let mut out: Vec<Workload> = Vec::new();
     for name in &args.workload {
-        let picked: Vec<Workload> = if [
-            "flypast", "gas", "cluster", "swarm", "grazing", "parallel", "far",
+        let picked: Vec<Workload> = if let Some(set) = Workload::set(name) {
+            set
+        } else if [
+            "flypast", "gas", "cluster", "swarm", "grazing", "parallel", "far", "walls", "gasmix",
         ]
         .contains(&name.as_str())
         {

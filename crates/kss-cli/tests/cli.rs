@@ -648,6 +648,117 @@ fn gen_options_and_output_file() {
 }
 
 #[test]
+fn gen_swarm_generates_and_runs() {
+    let dir = temp_dir();
+    let path = dir.join("swarm.json");
+    let p = path.to_str().unwrap();
+    let o = run_kss(
+        &[
+            "gen",
+            "swarm",
+            "--k",
+            "9",
+            "--n",
+            "12",
+            "--collisions",
+            "3",
+            "--seed",
+            "2",
+            "-o",
+            p,
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stdout.is_empty());
+    assert!(stderr(&o).contains("calibrated"), "{}", stderr(&o));
+    let sc = parse_scenario(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let want = kss::gen::swarm(&kss::gen::SwarmParams {
+        k: 9,
+        n: 12,
+        collisions_per_polygon: 3.0,
+        seed: 2,
+        ..Default::default()
+    });
+    assert_identical(&sc, &want);
+    assert_eq!(sc.on_collision, kss::CollisionMode::Bounce);
+    assert_eq!(sc.polygons.len(), 13);
+    assert_eq!(sc.polygons.iter().filter(|p| p.fixed).count(), 4);
+    assert_eq!(sc.polygons[0].id, "s0");
+    assert!(sc
+        .polygons
+        .iter()
+        .filter(|p| !p.fixed)
+        .all(|p| p.vertices.len() == 12));
+
+    // the library's structure and the reference report the same collisions
+    let mut outputs = Vec::new();
+    for structure in ["hierarchical", "brute"] {
+        let stats = dir.join(format!("{structure}.json"));
+        let o = run_kss(
+            &[
+                "run",
+                p,
+                "--structure",
+                structure,
+                "--stats",
+                stats.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_eq!(o.status.code(), Some(0), "{structure}: {}", stderr(&o));
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        assert_eq!(v["polygons"], 13);
+        assert!(v["collisions"].as_u64().unwrap() > 0, "{structure}: {v}");
+        outputs.push(o.stdout);
+    }
+    assert_eq!(outputs[0], outputs[1]);
+
+    // remove mode: the same polygons and until
+    let o = run_kss(
+        &[
+            "gen",
+            "swarm",
+            "--k",
+            "9",
+            "--n",
+            "12",
+            "--collisions",
+            "3",
+            "--seed",
+            "2",
+            "--mode",
+            "remove",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let removed = parse_scenario(&stdout(&o)).unwrap();
+    assert_eq!(removed.on_collision, kss::CollisionMode::Remove);
+    assert_eq!(removed.until, sc.until);
+    assert_eq!(removed.polygons, sc.polygons);
+    let o = run_kss(
+        &["run", "-", "--structure", "hierarchical"],
+        Some(&stdout(&o)),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(!o.stdout.is_empty());
+
+    // refused parameters
+    let o = run_kss(&["gen", "swarm", "--n", "2"], None);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("n is 2"), "{}", stderr(&o));
+    let o = run_kss(&["gen", "swarm", "--k", "0"], None);
+    assert_eq!(o.status.code(), Some(1));
+    let o = run_kss(&["gen", "swarm", "--small"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let o = run_kss(&["gen", "swarm", "--collisions", "3", "--until", "2"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn gen_refuses_bad_parameters() {
     let o = run_kss(&["gen", "flypast", "--n", "2"], None);
     assert_eq!(o.status.code(), Some(1));
@@ -861,6 +972,64 @@ fn run_survives_a_closed_pipe() {
     let o = child.wait_with_output().unwrap();
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
     assert_eq!(o.status.code(), Some(0));
+}
+
+#[test]
+fn bench_list_expands_the_workload_sets() {
+    let o = run_kss(&["bench", "--list", "--workload", "cost"], None);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let workloads: Vec<String> = stdout(&o)
+        .lines()
+        .filter_map(|l| l.strip_prefix("workload "))
+        .map(String::from)
+        .collect();
+    assert_eq!(
+        workloads,
+        [
+            "walls-k1000-n16-bounce",
+            "walls-k300-n256-bounce",
+            "walls-k2000-n64-remove",
+            "gasmix-k1000-n3to16",
+        ]
+    );
+    let o = run_kss(
+        &[
+            "bench",
+            "--list",
+            "--workload",
+            "perf",
+            "walls-k30-n16-remove",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert_eq!(
+        out.lines().filter(|l| l.starts_with("workload ")).count(),
+        7
+    );
+    assert!(out.contains("workload gas-k10000-n8-c1000\n"));
+    assert!(out.contains("workload flypast-n65536-r1e3\n"));
+    assert!(out.contains("workload walls-k30-n16-remove\n"));
+    // families pick among the defaults of the mode
+    let o = run_kss(
+        &[
+            "bench",
+            "--list",
+            "--quick",
+            "--workload",
+            "walls",
+            "gasmix",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).starts_with("workload walls-k30-n16-bounce\nworkload gasmix-k50-n3to16\n"));
+    let o = run_kss(
+        &["bench", "--list", "--workload", "walls-k30-n16-stop"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
 }
 
 #[test]
