@@ -9,10 +9,10 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use super::certs::Cert;
 use super::events::{classify, nearby_contact, settled_between, Failure};
-use super::geo::Geo;
+use super::geo::{Geo, PointRef};
 use super::ops::{Outcome, Owner};
 use super::{Att, CorrId, Kss, Obj, TriId};
-use crate::motion::{orient_poly, FramePoint, LinearPoint};
+use crate::motion::{orient_poly, LinearPoint};
 use crate::num::{
     filtered_failure, filtered_root, ExactTime, Filtered, Interval, Poly, Rational, Sign, Time,
 };
@@ -40,12 +40,29 @@ struct Scheduled {
     key: Option<EventKey>,
     owners: Vec<Owner>,
     /// What the three points were ([`Geo::point_id`]) when the failure
-    /// time under `key` was computed, and that time (`None` when it has
-    /// none): while they are the same points, the certificate is known to
-    /// be wrong just after that time, which is a root where it turns
-    /// negative (the flag: `true`) or the instant it was computed at, where
-    /// it is not positive just after ([`failure_time`]).
-    fp: Option<(Fingerprint, Time, bool)>,
+    /// time under `key` was computed (`None` when it has none): while they
+    /// are the same points, the certificate is known to be wrong just after
+    /// that time, which is a root where it turns negative (the flag:
+    /// `true`) or the instant it was computed at, where it is not positive
+    /// just after ([`failure_time`]).
+    /// (Boxed, as is `popped`: the map of certificates stays small.)
+    fp: Option<Box<(Fingerprint, bool)>>,
+    /// The failure time it was popped (or taken out of the queue) at, while
+    /// it waits to be handled or handled again (`None` while queued).
+    popped: Option<Box<Time>>,
+}
+
+/// The failure time a certificate is due at: its queued time, or the one it
+/// was popped at.
+fn due_time<'a>(
+    queue: &'a EventQueue<Time, [Att; 3]>,
+    key: Option<EventKey>,
+    popped: &'a Option<Box<Time>>,
+) -> Option<&'a Time> {
+    match key {
+        Some(k) => queue.get(k).map(|(t, _)| t),
+        None => popped.as_deref(),
+    }
 }
 
 /// The identities of a certificate's three points ([`Geo::point_id`]).
@@ -212,7 +229,7 @@ fn cert_enclosure(world: &Geo, c: &Cert) -> Option<[Interval; 3]> {
 /// A deferred failure time's exact computation: the certificate's three
 /// points with the frames they moved by when it was scheduled.
 struct DeferredFailure {
-    p: [FramePoint; 3],
+    p: [PointRef; 3],
     kind: super::certs::CertKind,
     sign: Sign,
 }
@@ -222,7 +239,7 @@ impl ExactTime for DeferredFailure {
         cert_poly_of(
             self.kind,
             self.sign,
-            &self.p.each_ref().map(FramePoint::linear),
+            &self.p.each_ref().map(PointRef::linear),
         )
         .failure_root()
         .expect("the filter proved that the certificate fails")
@@ -235,9 +252,12 @@ impl ExactTime for DeferredFailure {
 pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     use super::counters::{bump, Counter};
     bump(Counter::FailureTimes);
-    let deferred = |iv: Interval| {
+    // (`None` only if a point is no vertex of its body's approximation,
+    // which the enclosures already rule out)
+    let deferred = |iv: Interval| -> Option<Time> {
+        let [a, b, d] = c.p.map(|x| world.point_ref(x));
         let src = DeferredFailure {
-            p: c.p.map(|a| world.frame_point(a)),
+            p: [a?, b?, d?],
             kind: c.kind,
             sign: c.sign,
         };
@@ -247,7 +267,11 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
     if let Some(e) = e {
         match filtered_failure(e, now.interval()) {
             Filtered::Never => return None,
-            Filtered::At(iv) => return deferred(iv),
+            Filtered::At(iv) => {
+                if let Some(t) = deferred(iv) {
+                    return Some(t);
+                }
+            }
             Filtered::Unsure => {}
         }
     }
@@ -272,8 +296,10 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
                 return None;
             }
             Filtered::At(iv) => {
-                bump(Counter::FailureTimesMemo);
-                return deferred(iv);
+                if let Some(t) = deferred(iv) {
+                    bump(Counter::FailureTimesMemo);
+                    return Some(t);
+                }
             }
             Filtered::Unsure => {}
         },
@@ -358,20 +384,20 @@ fn is_failing(world: &Geo, c: &Cert, now: &Time) -> bool {
 
 /// [`is_failing`] for a certificate that is due at `now` (queued at `now`,
 /// or popped at `now`): known without arithmetic while its points are the
-/// ones its failure time was computed for (`fp`, see [`Scheduled::fp`]),
+/// ones its failure time `due` was computed for (see [`Scheduled::fp`]),
 /// evaluated exactly otherwise.
 fn due_is_failing(
     world: &Geo,
     c: &Cert,
-    fp: &Option<(Fingerprint, Time, bool)>,
+    (fp, due): (Option<&(Fingerprint, bool)>, Option<&Time>),
     now: &Time,
 ) -> bool {
-    if let Some((f, at, root)) = fp {
-        if Some(*f) == fingerprint(world, &c.p) && at.is_known_same(now) {
+    if let (Some(&(f, root)), Some(at)) = (fp, due) {
+        if Some(f) == fingerprint(world, &c.p) && at.is_known_same(now) {
             super::counters::bump(super::counters::Counter::FailingKnown);
             // (a failure root: negative just after it; the instant's memo
             // of turns learns that for the orientation)
-            if *root && c.kind != super::certs::CertKind::Order {
+            if root && c.kind != super::certs::CertKind::Order {
                 let s = if c.sign == Sign::Negative {
                     Sign::Positive
                 } else {
@@ -591,7 +617,8 @@ impl Kinetic {
             };
             s.owners.retain(|&x| x != o);
             if s.owners.is_empty() {
-                let (cert, key, fp) = (s.cert, s.key, s.fp.clone());
+                let (cert, key, fp) = (s.cert, s.key, s.fp.as_deref().copied());
+                let at = due_time(&self.queue, key, &s.popped).cloned();
                 let due = self.handling == Some(*p) || self.due_now(p, key, now);
                 if !due && fresh.contains(&cert) {
                     // the same certificate again, not due at this instant:
@@ -600,7 +627,10 @@ impl Kinetic {
                     kept.push(*p);
                     continue;
                 }
-                if self.handling != Some(*p) && due && due_is_failing(world, &cert, &fp, now) {
+                if self.handling != Some(*p)
+                    && due
+                    && due_is_failing(world, &cert, (fp.as_ref(), at.as_ref()), now)
+                {
                     pending.insert(*p, cert);
                 }
                 self.drop_cert(p);
@@ -663,12 +693,12 @@ impl Kinetic {
         world: &Geo,
         c: &Cert,
         now: &Time,
-    ) -> (Option<EventKey>, Option<(Fingerprint, Time, bool)>) {
+    ) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
         let Some(t) = failure_time(world, c, now) else {
             return (None, None);
         };
         let root = !t.is_known_same(now);
-        let fp = fingerprint(world, &c.p).map(|f| (f, t.clone(), root));
+        let fp = fingerprint(world, &c.p).map(|f| Box::new((f, root)));
         (Some(self.queue.schedule(t, tie(world, &c.p), c.p)), fp)
     }
 
@@ -685,6 +715,7 @@ impl Kinetic {
                 key,
                 owners: vec![o],
                 fp,
+                popped: None,
             },
         );
     }
@@ -726,7 +757,7 @@ impl Kinetic {
         }
         let (key, fp) = self.enqueue(world, &c, now);
         if let Some(s) = self.certs.get_mut(p) {
-            (s.key, s.fp) = (key, fp);
+            (s.key, s.fp, s.popped) = (key, fp, None);
         }
         self.max_active = self.max_active.max(self.queue.len());
     }
@@ -1426,7 +1457,14 @@ impl Kinetic {
             if adopted.contains(p) || held.contains(p) {
                 continue;
             }
-            if self.due_now(p, s.key, now) && due_is_failing(world, &s.cert, &s.fp, now) {
+            if self.due_now(p, s.key, now)
+                && due_is_failing(
+                    world,
+                    &s.cert,
+                    (s.fp.as_deref(), due_time(&self.queue, s.key, &s.popped)),
+                    now,
+                )
+            {
                 trace!(
                     "splice around {b:?}: certificate {:?} fails at once",
                     s.cert
@@ -1552,6 +1590,7 @@ impl Kinetic {
             return Err(format!("certificate {p:?} scheduled twice"));
         }
         s.key = None;
+        s.popped = Some(Box::new(t.clone()));
         trace!(
             "pop t={} tie {tie} {:?} {:?}",
             t.to_f64(),
@@ -1844,7 +1883,7 @@ impl Kinetic {
         if s.key.is_some() {
             return Ok(Step::Deferred(t)); // rescheduled meanwhile
         }
-        let (cert, fp) = (s.cert, s.fp.clone());
+        let (cert, fp, popped) = (s.cert, s.fp.as_deref().copied(), s.popped.clone());
         let owners = s.owners.clone();
         if self.recent_at.as_ref() != Some(&t) {
             self.recent.clear();
@@ -1854,7 +1893,7 @@ impl Kinetic {
             self.recent.pop_front();
         }
         self.recent.push_back(p);
-        if !due_is_failing(world, &cert, &fp, &t) {
+        if !due_is_failing(world, &cert, (fp.as_ref(), popped.as_deref()), &t) {
             // an operation at this instant made it hold again
             self.reschedule(world, &p, &t);
             return Ok(Step::Deferred(t));
@@ -1952,12 +1991,17 @@ impl Kinetic {
                     let due = s
                         .key
                         .is_some_and(|key| self.queue.get(key).is_some_and(|(tq, _)| *tq == t));
-                    (q != p && due && due_is_failing(world, &s.cert, &s.fp, &t)).then_some((tri, q))
+                    let at = due_time(&self.queue, s.key, &s.popped);
+                    (q != p && due && due_is_failing(world, &s.cert, (s.fp.as_deref(), at), &t))
+                        .then_some((tri, q))
                 });
                 if let Some((_tri, q)) = collapsing {
                     trace!("triangle {} collapses first", _tri.0);
-                    if let Some(key) = self.certs.get_mut(&q).and_then(|s| s.key.take()) {
-                        self.queue.cancel(key);
+                    if let Some(s) = self.certs.get_mut(&q) {
+                        if let Some(key) = s.key.take() {
+                            self.queue.cancel(key);
+                            s.popped = Some(Box::new(t.clone()));
+                        }
                     }
                     self.reschedule(world, &p, &t);
                     return self.handle(world, q, t, contacts, collides);

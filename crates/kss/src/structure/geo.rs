@@ -64,6 +64,37 @@ fn linear_cached(
     Some(e)
 }
 
+/// A vertex as the structure sees it, held compactly to compute its moving
+/// position later (a deferred failure time keeps its three points this
+/// way): its body's frame, and its real vertex or the approximation vertex
+/// `av(i, k)` of the body's static edge array, all shared, nothing copied.
+#[derive(Clone, Debug)]
+pub struct PointRef {
+    frame: Arc<Frame>,
+    src: PointSrc,
+}
+
+#[derive(Clone, Debug)]
+enum PointSrc {
+    Real(Arc<crate::geom::BodyPolygon>, u32),
+    Approx(Arc<EdgeArray>, u32, u32),
+}
+
+impl PointRef {
+    /// The moving world position for the frame it was taken with.
+    pub fn linear(&self) -> LinearPoint {
+        match &self.src {
+            PointSrc::Real(shape, v) => self.frame.vertex(shape, *v as usize),
+            PointSrc::Approx(array, i, k) => {
+                let h = array
+                    .av(*i as usize, *k as usize)
+                    .expect("an approximation vertex of the array");
+                self.frame.homogeneous(&h.x, &h.y, &h.w)
+            }
+        }
+    }
+}
+
 /// A body seen through its outer approximation.
 #[derive(Clone, Debug)]
 pub struct Approx {
@@ -343,6 +374,23 @@ impl<'a> Geo<'a> {
         {
             super::memo::record([ku, kv, kw], [fu, fv, fw], t, after, s);
         }
+    }
+
+    /// Vertex `a` as a [`PointRef`] (`None` for `ω` or an id that is not
+    /// exposed): [`PointRef::linear`] is [`Geo::point`]`(a)` for the motion
+    /// of now.
+    pub fn point_ref(&self, a: Att) -> Option<PointRef> {
+        let (b, (i, k)) = self.linear_key(a)?;
+        let body = self.world.body(b);
+        let src = if i == u32::MAX {
+            PointSrc::Real(body.shape.clone(), k)
+        } else {
+            PointSrc::Approx(self.shapes.approx(b)?.array.clone(), i, k)
+        };
+        Some(PointRef {
+            frame: body.frame.clone(),
+            src,
+        })
     }
 
     /// Vertex `a` as a body-frame point with its body's frame, to compute
