@@ -93,6 +93,9 @@ pub struct BodyPolygon {
     ivs: Vec<[Interval; 2]>,
     /// The body-frame bounding box (see [`BodyPolygon::bounds`]).
     bbox: [f64; 4],
+    /// The largest bit length of the integer coordinates (below 63: the
+    /// Minkowski passes run on `i128`, without allocation).
+    bits: u32,
 }
 
 /// What is wrong with a vertex list (see [`BodyPolygon::new`]).
@@ -161,6 +164,12 @@ impl BodyPolygon {
             bbox[2] = bbox[2].min(v[1]);
             bbox[3] = bbox[3].max(v[1]);
         }
+        let bits = xs
+            .iter()
+            .chain(&ys)
+            .map(|c| dashu_base::BitTest::bit_len(c) as u32)
+            .max()
+            .unwrap_or(0);
         let poly = BodyPolygon {
             xs,
             ys,
@@ -168,6 +177,7 @@ impl BodyPolygon {
             f64s: vertices.to_vec(),
             ivs,
             bbox,
+            bits,
         };
         poly.check_convex()?;
         Ok(poly)
@@ -375,6 +385,52 @@ pub fn orient_enclosed(
 mod tests {
     use super::*;
 
+    /// The Minkowski pass on `i128` (coordinates below `2^62`) gives the
+    /// same edges in the same order as the one on big integers, for
+    /// polygons of one scale and of very different scales (shifted
+    /// coordinates), regular and irregular, with parallel edges.
+    #[test]
+    fn minkowski_edges_on_i128_are_the_big_integer_ones() {
+        let regular = |n: usize, r: f64, phase: f64, c: [f64; 2]| -> Vec<[f64; 2]> {
+            (0..n)
+                .map(|i| {
+                    let a = phase + std::f64::consts::TAU * i as f64 / n as f64;
+                    [c[0] + r * a.cos(), c[1] + r * a.sin()]
+                })
+                .collect()
+        };
+        let shapes = [
+            regular(16, 0.4, 0.3, [0.0, 0.0]),
+            regular(4, 1.0, 0.0, [0.0, 0.0]),
+            vec![[0.0, 0.0], [32.0, 0.0], [32.0, 0.125], [0.0, 0.125]],
+            regular(7, 0.001, 1.1, [5.0, -3.0]),
+            regular(64, 3.0, 0.01, [-1.0, 2.0]),
+            vec![[0.0, 0.0], [1.0, 0.0], [1.5, 0.5], [1.0, 1.0], [0.0, 1.0]],
+        ];
+        let mut fast = 0;
+        for x in &shapes {
+            for y in &shapes {
+                let (a, b) = (BodyPolygon::new(x).unwrap(), BodyPolygon::new(y).unwrap());
+                let mut got = Vec::new();
+                let exp = for_each_minkowski_edge(&a, &b, |e| got.push(e));
+                let e0 = a.exp.min(b.exp);
+                let mut want = Vec::new();
+                minkowski_edges_big(
+                    &a,
+                    &b,
+                    ((a.exp - e0) as usize, (b.exp - e0) as usize),
+                    &mut |e| want.push(e),
+                );
+                assert_eq!(exp, e0);
+                assert_eq!(got, want);
+                if a.bits as i64 + a.exp - e0 <= 62 && b.bits as i64 + b.exp - e0 <= 62 {
+                    fast += 1;
+                }
+            }
+        }
+        assert!(fast >= 10, "the i128 path ran on only {fast} pairs");
+    }
+
     /// The filtered orientation agrees with the exact formula, on exactly
     /// collinear triples (thirds, which no double represents) and on
     /// triples a tiny rational step off the line, at small and huge scales.
@@ -505,6 +561,29 @@ pub fn for_each_minkowski_edge(
     let exp = a.exp.min(b.exp);
     let sa = (a.exp - exp) as usize;
     let sb = (b.exp - exp) as usize;
+    if a.bits as usize + sa <= 62 && b.bits as usize + sb <= 62 {
+        let small = |p: &BodyPolygon| -> Vec<[i64; 2]> {
+            let to = |c: &Int| i64::try_from(c).expect("below 2^62");
+            p.xs.iter()
+                .zip(&p.ys)
+                .map(|(x, y)| [to(x), to(y)])
+                .collect()
+        };
+        minkowski_edges_i128((&small(a), sa), (&small(b), sb), &mut visit);
+        return exp;
+    }
+    minkowski_edges_big(a, b, (sa, sb), &mut visit);
+    exp
+}
+
+/// [`for_each_minkowski_edge`] on big integers (`A`'s coordinates shifted
+/// left by `sa`, `B`'s by `sb`).
+fn minkowski_edges_big(
+    a: &BodyPolygon,
+    b: &BodyPolygon,
+    (sa, sb): (usize, usize),
+    visit: &mut impl FnMut(MinkowskiEdge),
+) {
     let av = |i: usize| (&a.xs[i] << sa, &a.ys[i] << sa);
     let bv = |j: usize| (&b.xs[j] << sb, &b.ys[j] << sb);
     let (n, m) = (a.len(), b.len());
@@ -556,7 +635,82 @@ pub fn for_each_minkowski_edge(
             ia += 1;
         }
     }
-    exp
+}
+
+/// [`for_each_minkowski_edge`] on coordinates below `2^62` once shifted
+/// (`(vertices, shift)` of `A` and of `B`): the same edges in the same order,
+/// computed on `i128` (edge vectors below `2^63`, products below `2^126`).
+fn minkowski_edges_i128(
+    (a, sa): (&[[i64; 2]], usize),
+    (b, sb): (&[[i64; 2]], usize),
+    visit: &mut impl FnMut(MinkowskiEdge),
+) {
+    let av = |i: usize| (i128::from(a[i][0]) << sa, i128::from(a[i][1]) << sa);
+    let bv = |j: usize| (i128::from(b[j][0]) << sb, i128::from(b[j][1]) << sb);
+    let (n, m) = (a.len(), b.len());
+    let edge_b = |j: usize| {
+        let (x0, y0) = bv(j);
+        let (x1, y1) = bv((j + 1) % m);
+        (x1 - x0, y1 - y0)
+    };
+    let edge_na = |i: usize| {
+        let (x0, y0) = av(i);
+        let (x1, y1) = av((i + 1) % n);
+        (x0 - x1, y0 - y1)
+    };
+    let j0 = (0..m)
+        .min_by(|&x, &y| angle_cmp_i128(edge_b(x), edge_b(y)))
+        .expect("non-empty");
+    let i0 = (0..n)
+        .min_by(|&x, &y| angle_cmp_i128(edge_na(x), edge_na(y)))
+        .expect("non-empty");
+    let (mut ib, mut ia) = (0usize, 0usize);
+    while ib < m || ia < n {
+        let j = (j0 + ib) % m;
+        let i = (i0 + ia) % n;
+        let take_b = if ib == m {
+            false
+        } else if ia == n {
+            true
+        } else {
+            angle_cmp_i128(edge_b(j), edge_na(i)) != std::cmp::Ordering::Greater
+        };
+        let (bx, by) = bv(j);
+        let (ax, ay) = av(i);
+        let (vx, vy) = (bx - ax, by - ay);
+        let (ex, ey) = if take_b { edge_b(j) } else { edge_na(i) };
+        let (nx, ny) = (ey, -ex);
+        let h = nx * vx + ny * vy;
+        visit(MinkowskiEdge {
+            nx: Int::from(nx),
+            ny: Int::from(ny),
+            h: Int::from(h),
+            source: if take_b { Ok(j) } else { Err(i) },
+            other: if take_b { i } else { j },
+        });
+        if take_b {
+            ib += 1;
+        } else {
+            ia += 1;
+        }
+    }
+}
+
+/// [`angle_cmp`] on vectors with components below `2^63` in size.
+fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
+    let half = |d: (i128, i128)| {
+        if d.1 > 0 || (d.1 == 0 && d.0 > 0) {
+            0
+        } else {
+            1
+        }
+    };
+    let (hu, hv) = (half(u), half(v));
+    if hu != hv {
+        return hu.cmp(&hv);
+    }
+    // same half: u before v iff v is counter-clockwise of u
+    (u.1 * v.0).cmp(&(u.0 * v.1))
 }
 
 /// Compare the angles in `[0, 2π)` of two non-zero integer vectors.
