@@ -150,6 +150,7 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "stand_ins": stats.stand_ins,
         "stand_in_ends": stats.stand_in_ends,
         "work": stats.work,
+        "build_seconds": stats.build_seconds,
         "wall_seconds": wall_seconds,
     });
     let mut s = serde_json::to_string_pretty(&v).expect("stats serialize");

@@ -910,9 +910,28 @@ fn stats_count_the_structures_work_by_path() {
         assert!(n("turns_filtered") > 0 && n("failure_times") > 0, "{w}");
         assert!(n("turns_undecided") <= n("turns_filtered"), "{w}");
         assert!(n("failure_times_exact") <= n("failure_times"), "{w}");
-        for k in ["turns_exact", "turns_memo", "normalizations", "walks"] {
+        assert!(
+            n("failure_times_exact") + n("failure_times_memo") <= n("failure_times"),
+            "{w}"
+        );
+        for k in [
+            "turns_exact",
+            "turns_memo",
+            "failing_known",
+            "normalizations",
+            "walks",
+        ] {
             n(k);
         }
+        // the construction is part of the run
+        let (build, wall) = (
+            v["build_seconds"].as_f64().expect("build_seconds"),
+            v["wall_seconds"].as_f64().expect("wall_seconds"),
+        );
+        assert!(
+            build > 0.0 && build <= wall,
+            "build {build} s, wall {wall} s"
+        );
     }
     let _ = std::fs::remove_dir_all(dir);
 }

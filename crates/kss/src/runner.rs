@@ -125,6 +125,11 @@ pub struct RunStats {
     /// for `brute`): predicate evaluations by the path they took and
     /// corridor walks (names in [`crate::structure::counters::NAMES`]).
     pub work: BTreeMap<String, u64>,
+    /// Wall time, in seconds, of building the exact world from the
+    /// scenario (with its validation) and the structure with its
+    /// certificates, before the first event: the rest of a run's wall time
+    /// is the events'.
+    pub build_seconds: f64,
 }
 
 /// Why a run could not complete.
@@ -148,10 +153,13 @@ pub fn run(
     options: &RunOptions,
     on_event: &mut dyn FnMut(&CollisionEvent),
 ) -> Result<RunStats, RunError> {
+    let start = std::time::Instant::now();
     let mut world = World::new(scenario, options.until)?;
     let before = crate::structure::counters::snapshot();
     let mut engine = make_engine(&world, options)?;
+    let build_seconds = start.elapsed().as_secs_f64();
     let mut stats = drive(&mut world, engine.as_mut(), options, None, on_event)?;
+    stats.build_seconds = build_seconds;
     if options.structure != StructureKind::Brute {
         let after = crate::structure::counters::snapshot();
         stats.work = crate::structure::counters::NAMES
