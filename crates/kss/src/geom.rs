@@ -569,7 +569,13 @@ pub fn for_each_minkowski_edge(
                 .map(|(x, y)| [to(x), to(y)])
                 .collect()
         };
-        minkowski_edges_i128((&small(a), sa), (&small(b), sb), &mut visit);
+        let (va, vb) = (small(a), small(b));
+        minkowski_walk(
+            (va.len(), vb.len()),
+            |i| (i128::from(va[i][0]) << sa, i128::from(va[i][1]) << sa),
+            |j| (i128::from(vb[j][0]) << sb, i128::from(vb[j][1]) << sb),
+            &mut visit,
+        );
         return exp;
     }
     minkowski_edges_big(a, b, (sa, sb), &mut visit);
@@ -584,19 +590,41 @@ fn minkowski_edges_big(
     (sa, sb): (usize, usize),
     visit: &mut impl FnMut(MinkowskiEdge),
 ) {
-    let av = |i: usize| (&a.xs[i] << sa, &a.ys[i] << sa);
-    let bv = |j: usize| (&b.xs[j] << sb, &b.ys[j] << sb);
-    let (n, m) = (a.len(), b.len());
+    minkowski_walk(
+        (a.len(), b.len()),
+        |i| (&a.xs[i] << sa, &a.ys[i] << sa),
+        |j| (&b.xs[j] << sb, &b.ys[j] << sb),
+        visit,
+    );
+}
+
+/// The merge of [`for_each_minkowski_edge`] over the `n` vertices of `A`
+/// (`av`) and the `m` of `B` (`bv`), in integer units, on any exact integer
+/// type: big integers, or `i128` where the coordinates are below `2^62`
+/// (edge vectors below `2^63`, products below `2^126`), with the same
+/// edges in the same order.
+fn minkowski_walk<T>(
+    (n, m): (usize, usize),
+    av: impl Fn(usize) -> (T, T),
+    bv: impl Fn(usize) -> (T, T),
+    visit: &mut impl FnMut(MinkowskiEdge),
+) where
+    T: Ord + Default + Into<Int>,
+    for<'x> &'x T: std::ops::Sub<&'x T, Output = T>
+        + std::ops::Add<&'x T, Output = T>
+        + std::ops::Mul<&'x T, Output = T>
+        + std::ops::Neg<Output = T>,
+{
     // Edge directions: B's edges, and the reversed edges of A (edges of −A).
     let edge_b = |j: usize| {
         let (x0, y0) = bv(j);
         let (x1, y1) = bv((j + 1) % m);
-        (x1 - x0, y1 - y0)
+        (&x1 - &x0, &y1 - &y0)
     };
     let edge_na = |i: usize| {
         let (x0, y0) = av(i);
         let (x1, y1) = av((i + 1) % n);
-        (x0 - x1, y0 - y1)
+        (&x0 - &x1, &y0 - &y1)
     };
     let j0 = (0..m)
         .min_by(|&x, &y| angle_cmp(&edge_b(x), &edge_b(y)))
@@ -618,14 +646,14 @@ fn minkowski_edges_big(
         // current vertex of M: b_j − a_i
         let (bx, by) = bv(j);
         let (ax, ay) = av(i);
-        let (vx, vy) = (bx - ax, by - ay);
+        let (vx, vy) = (&bx - &ax, &by - &ay);
         let (ex, ey) = if take_b { edge_b(j) } else { edge_na(i) };
-        let (nx, ny) = (ey, -ex);
-        let h = &nx * &vx + &ny * &vy;
+        let (nx, ny) = (ey, -&ex);
+        let h = &(&nx * &vx) + &(&ny * &vy);
         visit(MinkowskiEdge {
-            nx,
-            ny,
-            h,
+            nx: nx.into(),
+            ny: ny.into(),
+            h: h.into(),
             source: if take_b { Ok(j) } else { Err(i) },
             other: if take_b { i } else { j },
         });
@@ -635,88 +663,17 @@ fn minkowski_edges_big(
             ia += 1;
         }
     }
-}
-
-/// [`for_each_minkowski_edge`] on coordinates below `2^62` once shifted
-/// (`(vertices, shift)` of `A` and of `B`): the same edges in the same order,
-/// computed on `i128` (edge vectors below `2^63`, products below `2^126`).
-fn minkowski_edges_i128(
-    (a, sa): (&[[i64; 2]], usize),
-    (b, sb): (&[[i64; 2]], usize),
-    visit: &mut impl FnMut(MinkowskiEdge),
-) {
-    let av = |i: usize| (i128::from(a[i][0]) << sa, i128::from(a[i][1]) << sa);
-    let bv = |j: usize| (i128::from(b[j][0]) << sb, i128::from(b[j][1]) << sb);
-    let (n, m) = (a.len(), b.len());
-    let edge_b = |j: usize| {
-        let (x0, y0) = bv(j);
-        let (x1, y1) = bv((j + 1) % m);
-        (x1 - x0, y1 - y0)
-    };
-    let edge_na = |i: usize| {
-        let (x0, y0) = av(i);
-        let (x1, y1) = av((i + 1) % n);
-        (x0 - x1, y0 - y1)
-    };
-    let j0 = (0..m)
-        .min_by(|&x, &y| angle_cmp_i128(edge_b(x), edge_b(y)))
-        .expect("non-empty");
-    let i0 = (0..n)
-        .min_by(|&x, &y| angle_cmp_i128(edge_na(x), edge_na(y)))
-        .expect("non-empty");
-    let (mut ib, mut ia) = (0usize, 0usize);
-    while ib < m || ia < n {
-        let j = (j0 + ib) % m;
-        let i = (i0 + ia) % n;
-        let take_b = if ib == m {
-            false
-        } else if ia == n {
-            true
-        } else {
-            angle_cmp_i128(edge_b(j), edge_na(i)) != std::cmp::Ordering::Greater
-        };
-        let (bx, by) = bv(j);
-        let (ax, ay) = av(i);
-        let (vx, vy) = (bx - ax, by - ay);
-        let (ex, ey) = if take_b { edge_b(j) } else { edge_na(i) };
-        let (nx, ny) = (ey, -ex);
-        let h = nx * vx + ny * vy;
-        visit(MinkowskiEdge {
-            nx: Int::from(nx),
-            ny: Int::from(ny),
-            h: Int::from(h),
-            source: if take_b { Ok(j) } else { Err(i) },
-            other: if take_b { i } else { j },
-        });
-        if take_b {
-            ib += 1;
-        } else {
-            ia += 1;
-        }
-    }
-}
-
-/// [`angle_cmp`] on vectors with components below `2^63` in size.
-fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
-    let half = |d: (i128, i128)| {
-        if d.1 > 0 || (d.1 == 0 && d.0 > 0) {
-            0
-        } else {
-            1
-        }
-    };
-    let (hu, hv) = (half(u), half(v));
-    if hu != hv {
-        return hu.cmp(&hv);
-    }
-    // same half: u before v iff v is counter-clockwise of u
-    (u.1 * v.0).cmp(&(u.0 * v.1))
 }
 
 /// Compare the angles in `[0, 2π)` of two non-zero integer vectors.
-fn angle_cmp(u: &(Int, Int), v: &(Int, Int)) -> std::cmp::Ordering {
-    let half = |d: &(Int, Int)| {
-        if d.1 > Int::ZERO || (d.1.is_zero() && d.0 > Int::ZERO) {
+fn angle_cmp<T>(u: &(T, T), v: &(T, T)) -> std::cmp::Ordering
+where
+    T: Ord + Default,
+    for<'x> &'x T: std::ops::Mul<&'x T, Output = T>,
+{
+    let zero = T::default();
+    let half = |d: &(T, T)| {
+        if d.1 > zero || (d.1 == zero && d.0 > zero) {
             0
         } else {
             1
@@ -727,8 +684,7 @@ fn angle_cmp(u: &(Int, Int), v: &(Int, Int)) -> std::cmp::Ordering {
         return hu.cmp(&hv);
     }
     // same half: u before v iff v is counter-clockwise of u
-    let cr = &u.0 * &v.1 - &u.1 * &v.0;
-    Int::ZERO.cmp(&cr)
+    (&u.1 * &v.0).cmp(&(&u.0 * &v.1))
 }
 
 /// Whether body polygons `a` at `pa` and `b` at `pb` share a point (closed
