@@ -9,8 +9,6 @@
 //! the form `((x0 + x1·t)/w, (y0 + y1·t)/w)` with integers and `w > 0`, so that
 //! [`orient_poly`] needs only integer arithmetic.
 
-use std::sync::Arc;
-
 use crate::geom::{BodyPolygon, Point};
 use crate::num::{lcm, Int, Interval, Poly, Rational};
 
@@ -180,29 +178,6 @@ impl Frame {
             y1: &self.vy * w,
             w: &self.w * w,
         }
-    }
-}
-
-/// A body-frame point in homogeneous integer coordinates `(x/w, y/w)` on the
-/// grid of its body polygon, with the frame that moves it: enough to produce
-/// its [`LinearPoint`] later (a deferred certificate failure time keeps its
-/// three points this way; the frame is shared, not copied).
-#[derive(Clone, Debug)]
-pub struct FramePoint {
-    /// The frame of the body polygon the point is on.
-    pub frame: Arc<Frame>,
-    /// Homogeneous x.
-    pub x: Int,
-    /// Homogeneous y.
-    pub y: Int,
-    /// Positive weight.
-    pub w: Int,
-}
-
-impl FramePoint {
-    /// The moving world position ([`Frame::homogeneous`]).
-    pub fn linear(&self) -> LinearPoint {
-        self.frame.homogeneous(&self.x, &self.y, &self.w)
     }
 }
 

@@ -15,8 +15,8 @@ use std::sync::Arc;
 use super::memo::PointKey;
 use super::{Att, Obj};
 use crate::geom::Point;
-use crate::hier::{EdgeArray, Exposed, HomPoint};
-use crate::motion::{Frame, FramePoint, LinearPoint};
+use crate::hier::{EdgeArray, Exposed};
+use crate::motion::{Frame, LinearPoint};
 use crate::num::{Interval, Rational, Sign, Time};
 use crate::world::{BodyId, World};
 
@@ -391,29 +391,6 @@ impl<'a> Geo<'a> {
             frame: body.frame.clone(),
             src,
         })
-    }
-
-    /// Vertex `a` as a body-frame point with its body's frame, to compute
-    /// its moving position later ([`FramePoint::linear`] is
-    /// [`Geo::point`]`(a)` for the motion of now).
-    pub fn frame_point(&self, a: Att) -> FramePoint {
-        let Obj::Body(b) = a.obj else {
-            unreachable!("a finite point was expected")
-        };
-        let body = self.world.body(b);
-        let h = match self.shapes.approx(b) {
-            None => HomPoint::vertex(&body.shape, a.v as usize),
-            Some(ap) => ap
-                .array
-                .vertex_of(&body.shape, &ap.exposed, a.v as usize)
-                .expect("an exposed id with an approximation vertex"),
-        };
-        FramePoint {
-            frame: body.frame.clone(),
-            x: h.x,
-            y: h.y,
-            w: h.w,
-        }
     }
 
     /// Enclosures `[x0, x1, y0, y1]` of `a`'s moving position `(x0 + x1·t,
