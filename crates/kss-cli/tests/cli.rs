@@ -652,23 +652,19 @@ fn gen_swarm_generates_and_runs() {
     let dir = temp_dir();
     let path = dir.join("swarm.json");
     let p = path.to_str().unwrap();
-    let o = run_kss(
-        &[
-            "gen",
-            "swarm",
-            "--k",
-            "9",
-            "--n",
-            "12",
-            "--collisions",
-            "3",
-            "--seed",
-            "2",
-            "-o",
-            p,
-        ],
-        None,
-    );
+    let gen = [
+        "gen",
+        "swarm",
+        "--k",
+        "9",
+        "--n",
+        "12",
+        "--collisions",
+        "3",
+        "--seed",
+        "2",
+    ];
+    let o = run_kss(&[&gen[..], &["-o", p]].concat(), None);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(o.stdout.is_empty());
     assert!(stderr(&o).contains("calibrated"), "{}", stderr(&o));
@@ -716,23 +712,7 @@ fn gen_swarm_generates_and_runs() {
     assert_eq!(outputs[0], outputs[1]);
 
     // remove mode: the same polygons and until
-    let o = run_kss(
-        &[
-            "gen",
-            "swarm",
-            "--k",
-            "9",
-            "--n",
-            "12",
-            "--collisions",
-            "3",
-            "--seed",
-            "2",
-            "--mode",
-            "remove",
-        ],
-        None,
-    );
+    let o = run_kss(&[&gen[..], &["--mode", "remove"]].concat(), None);
     assert!(o.status.success(), "{}", stderr(&o));
     let removed = parse_scenario(&stdout(&o)).unwrap();
     assert_eq!(removed.on_collision, kss::CollisionMode::Remove);
