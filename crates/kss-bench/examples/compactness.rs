@@ -70,6 +70,7 @@ fn regular_scene(k: usize, n: usize, seed: u64) -> Scenario {
         on_collision: CollisionMode::Bounce,
         polygons,
         flight_plan_changes: Vec::new(),
+        ..Default::default()
     }
 }
 

@@ -640,6 +640,7 @@ fn cluster(k: usize) -> Scenario {
         on_collision: CollisionMode::Remove,
         polygons,
         flight_plan_changes: Vec::new(),
+        ..Default::default()
     }
 }
 

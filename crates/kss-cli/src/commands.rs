@@ -65,6 +65,9 @@ impl CliError {
             e @ RunError::NotImplemented(_) => {
                 CliError::new(ErrorKind::NotImplemented, e.to_string())
             }
+            e @ RunError::InsertionTouches { .. } => {
+                CliError::new(ErrorKind::Invalid, format!("{source}: {e}"))
+            }
             e @ RunError::Internal(_) => CliError::new(ErrorKind::Internal, e.to_string()),
         }
     }
@@ -144,6 +147,7 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "rebuilds": stats.rebuilds,
         "degenerate_rebuilds": stats.degenerate_rebuilds,
         "refine_rebuilds": stats.refine_rebuilds,
+        "insert_rebuilds": stats.insert_rebuilds,
         "merges": stats.merges,
         "local_removals": stats.local_removals,
         "local_repairs": stats.local_repairs,

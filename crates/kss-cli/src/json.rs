@@ -14,7 +14,7 @@
 use serde::Serialize;
 use serde_json::{Map, Value};
 
-use kss::{CollisionMode, FlightPlanChange, PolygonSpec, Scenario};
+use kss::{CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, Scenario};
 
 /// Why a scenario file could not be read. Every message names the entry.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -203,16 +203,72 @@ pub fn scenario_from_value(root: &Value) -> Result<Scenario, ScenarioJsonError> 
         }
     }
 
+    let insertions = entries(obj, "insertions", "an array of insertions", insertion)?;
+    let removals = entries(obj, "removals", "an array of removals", removal)?;
+
     Ok(Scenario {
         until,
         on_collision,
         polygons,
         flight_plan_changes,
+        insertions,
+        removals,
     })
 }
 
+/// The optional array `field` of the top-level object, each entry read by
+/// `read` (absent means empty).
+fn entries<T>(
+    obj: &serde_json::Map<String, Value>,
+    field: &str,
+    expected: &'static str,
+    read: fn(usize, &Value) -> Result<T, ScenarioJsonError>,
+) -> Result<Vec<T>, ScenarioJsonError> {
+    match obj.get(field) {
+        None => Ok(Vec::new()),
+        Some(Value::Array(a)) => a.iter().enumerate().map(|(i, v)| read(i, v)).collect(),
+        Some(other) => Err(wrong("scenario", field, expected, other)),
+    }
+}
+
+fn insertion(index: usize, v: &Value) -> Result<Insertion, ScenarioJsonError> {
+    let entry = format!("insertions[{index}]");
+    let obj = v.as_object().ok_or_else(|| ScenarioJsonError::WrongType {
+        entry: entry.clone(),
+        field: entry.clone(),
+        expected: "an object {\"time\", \"polygon\"}",
+        found: describe(v),
+    })?;
+    let time = number(obj, &entry, "time")?;
+    let polygon = polygon_in(&entry, required(obj, &entry, "polygon")?)?;
+    Ok(Insertion { time, polygon })
+}
+
+fn removal(index: usize, v: &Value) -> Result<Removal, ScenarioJsonError> {
+    let entry = format!("removals[{index}]");
+    let obj = v.as_object().ok_or_else(|| ScenarioJsonError::WrongType {
+        entry: entry.clone(),
+        field: entry.clone(),
+        expected: "an object {\"time\", \"id\"}",
+        found: describe(v),
+    })?;
+    let time = number(obj, &entry, "time")?;
+    let id = string(obj, &entry, "id")?;
+    Ok(Removal { time, id })
+}
+
 fn polygon(index: usize, v: &Value) -> Result<PolygonSpec, ScenarioJsonError> {
-    let bare = format!("polygons[{index}]");
+    polygon_in(&format!("polygons[{index}]"), v)
+}
+
+/// A polygon object; `bare` names where it is (`polygons[3]`,
+/// `insertions[0].polygon`'s entry).
+fn polygon_in(bare: &str, v: &Value) -> Result<PolygonSpec, ScenarioJsonError> {
+    let bare = if bare.starts_with("insertions") {
+        format!("{bare}.polygon")
+    } else {
+        bare.to_string()
+    };
     let obj = v.as_object().ok_or_else(|| ScenarioJsonError::WrongType {
         entry: bare.clone(),
         field: bare.clone(),
@@ -220,7 +276,7 @@ fn polygon(index: usize, v: &Value) -> Result<PolygonSpec, ScenarioJsonError> {
         found: describe(v),
     })?;
     let id = string(obj, &bare, "id")?;
-    let entry = format!("polygons[{index}] (id {id:?})");
+    let entry = format!("{bare} (id {id:?})");
     let vertices = match required(obj, &entry, "vertices")? {
         Value::Array(a) => a
             .iter()

@@ -466,6 +466,7 @@ fn writer_round_trips_exactly() {
         on_collision: kss::CollisionMode::Bounce,
         polygons: vec![],
         flight_plan_changes: vec![],
+        ..Default::default()
     };
     assert_identical(
         &empty,
@@ -484,6 +485,7 @@ fn event_lines_and_stats_are_json() {
         a: "p\"1".into(),
         b: "p2".into(),
         point: [1.0, -0.5],
+        again: false,
     };
     let line = kss_cli::commands::event_line(&e);
     let v: serde_json::Value = serde_json::from_str(&line).unwrap();

@@ -407,6 +407,7 @@ pub fn flypast_with_info(params: &FlypastParams) -> (Scenario, FlypastInfo) {
             },
         ],
         flight_plan_changes: Vec::new(),
+        ..Default::default()
     };
     (
         scenario,
@@ -598,6 +599,7 @@ pub fn gas(params: &GasParams) -> Scenario {
         on_collision: params.mode,
         polygons,
         flight_plan_changes: changes,
+        ..Default::default()
     }
 }
 
@@ -931,6 +933,7 @@ pub fn swarm(params: &SwarmParams) -> Scenario {
         on_collision: params.mode,
         polygons,
         flight_plan_changes: Vec::new(),
+        ..Default::default()
     }
 }
 
@@ -1390,6 +1393,7 @@ impl Lattice {
                 on_collision: mode,
                 polygons,
                 flight_plan_changes: changes,
+                ..Default::default()
             },
             contacts,
         )
@@ -1734,6 +1738,7 @@ pub fn demo() -> Scenario {
             id: "boulder".to_string(),
             velocity: [-0.5, 0.5],
         }],
+        ..Default::default()
     }
 }
 

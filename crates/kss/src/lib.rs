@@ -42,7 +42,7 @@
 //!     until: 10.0,
 //!     on_collision: CollisionMode::Stop,
 //!     polygons: vec![square("a", 0.0, 2.0), square("b", 2.0, -1.0)],
-//!     flight_plan_changes: vec![],
+//!     ..Default::default()
 //! };
 //! let options = RunOptions { structure: StructureKind::Brute, ..Default::default() };
 //! let mut events = Vec::new();
@@ -84,6 +84,7 @@
 #![warn(missing_docs)]
 
 pub mod brute;
+mod engine;
 pub mod gen;
 pub mod geom;
 pub mod hier;
@@ -94,8 +95,12 @@ pub mod rng;
 pub mod runner;
 pub mod scenario;
 pub mod sim;
+pub mod simulation;
 pub mod structure;
 pub mod world;
 
 pub use runner::{run, CollisionEvent, RunError, RunOptions, RunStats, StructureKind};
-pub use scenario::{CollisionMode, FlightPlanChange, PolygonSpec, Scenario, ScenarioError};
+pub use scenario::{
+    CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, Scenario, ScenarioError,
+};
+pub use simulation::{SimError, SimOptions, Simulation};

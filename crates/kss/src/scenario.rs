@@ -54,17 +54,40 @@ pub struct FlightPlanChange {
     pub velocity: [f64; 2],
 }
 
-/// A whole scenario, as given in the file (not yet validated).
+/// Polygon `polygon.id` enters the scene at `time`; its `position` is the
+/// world position of its body frame's origin at that time.
 #[derive(Clone, Debug, PartialEq)]
+pub struct Insertion {
+    /// When the polygon enters (`0 < time <= until`).
+    pub time: f64,
+    /// The polygon, its position given at `time`.
+    pub polygon: PolygonSpec,
+}
+
+/// Polygon `id` leaves the scene at `time` (fixed ones included).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Removal {
+    /// When the polygon leaves (`0 < time <= until`).
+    pub time: f64,
+    /// The polygon (an initial or an inserted one).
+    pub id: String,
+}
+
+/// A whole scenario, as given in the file (not yet validated).
+#[derive(Clone, Debug, PartialEq, Default)]
 pub struct Scenario {
     /// End of the simulated interval `[0, until]`.
     pub until: f64,
     /// Collision response.
     pub on_collision: CollisionMode,
-    /// The polygons.
+    /// The polygons present at time 0.
     pub polygons: Vec<PolygonSpec>,
     /// Flight-plan changes, in any order.
     pub flight_plan_changes: Vec<FlightPlanChange>,
+    /// Polygons that enter the scene during the run, in any order.
+    pub insertions: Vec<Insertion>,
+    /// Polygons that leave the scene during the run, in any order.
+    pub removals: Vec<Removal>,
 }
 
 /// Why a scenario is invalid. Every message names the offending polygon(s) or
@@ -179,6 +202,78 @@ pub enum ScenarioError {
         id: String,
         /// The common time.
         time: f64,
+    },
+    /// An inserted polygon's id is empty.
+    #[error("insertions[{index}] has a polygon with an empty id; give every polygon a unique non-empty id")]
+    EmptyInsertedId {
+        /// Index in the `insertions` array.
+        index: usize,
+    },
+    /// An insertion time is outside `(0, until]`.
+    #[error("insertions[{index}] (polygon {id:?}) has time {time}, outside (0, until = {until}]; use a time in that interval")]
+    InsertionTimeOutOfRange {
+        /// Index in `insertions`.
+        index: usize,
+        /// The inserted polygon.
+        id: String,
+        /// The time given.
+        time: f64,
+        /// The scenario's `until`.
+        until: f64,
+    },
+    /// A removal time is outside `(0, until]`.
+    #[error("removals[{index}] (polygon {id:?}) has time {time}, outside (0, until = {until}]; use a time in that interval")]
+    RemovalTimeOutOfRange {
+        /// Index in `removals`.
+        index: usize,
+        /// The polygon.
+        id: String,
+        /// The time given.
+        time: f64,
+        /// The scenario's `until`.
+        until: f64,
+    },
+    /// A removal names no polygon.
+    #[error("removals[{index}] names unknown polygon {id:?}; use the id of an initial or an inserted polygon")]
+    UnknownRemovalId {
+        /// Index in `removals`.
+        index: usize,
+        /// The id given.
+        id: String,
+    },
+    /// Two removals of one polygon.
+    #[error("removals[{first}] and [{second}] both remove polygon {id:?}; keep one")]
+    DuplicateRemoval {
+        /// Index of the first removal.
+        first: usize,
+        /// Index of the second removal.
+        second: usize,
+        /// The polygon.
+        id: String,
+    },
+    /// An inserted polygon is removed at or before its insertion.
+    #[error("removals[{index}] removes polygon {id:?} at time {time}, not after its insertion at time {inserted}; remove it later")]
+    RemovalNotAfterInsertion {
+        /// Index in `removals`.
+        index: usize,
+        /// The polygon.
+        id: String,
+        /// The removal time.
+        time: f64,
+        /// The insertion time.
+        inserted: f64,
+    },
+    /// A flight-plan change outside its polygon's lifetime.
+    #[error("flight_plan_changes[{index}] changes polygon {id:?} at time {time}, {why}; a polygon's plan changes only while it is in the scene")]
+    ChangeOutsideLifetime {
+        /// Index in `flight_plan_changes`.
+        index: usize,
+        /// The polygon.
+        id: String,
+        /// The change time.
+        time: f64,
+        /// Which end of the lifetime it misses.
+        why: String,
     },
     /// Two polygons touch or overlap at time 0.
     #[error("polygons {a:?} and {b:?} touch or overlap at time 0; move them apart (polygons must be disjoint at the start)")]

@@ -29,7 +29,7 @@ use std::sync::Arc;
 use crate::geom::{for_each_minkowski_edge, BodyPolygon, Point, PolygonDefect};
 use crate::motion::{Frame, LinearPoint, Trajectory};
 use crate::num::{Int, Interval, Rational, Sign, Time};
-use crate::scenario::{CollisionMode, Scenario, ScenarioError};
+use crate::scenario::{CollisionMode, PolygonSpec, Scenario, ScenarioError};
 
 /// Index of a body in the world.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -66,6 +66,51 @@ pub struct Body {
 }
 
 impl Body {
+    /// A body from its specification, its body frame's origin at
+    /// `p.position` at time `t`; refuses a polygon or number that breaks
+    /// the contract.
+    pub(crate) fn new(p: &PolygonSpec, t: &Rational) -> Result<Body, ScenarioError> {
+        let id = || p.id.clone();
+        let shape = BodyPolygon::new(&p.vertices).map_err(|d| match d {
+            PolygonDefect::TooFew => ScenarioError::TooFewVertices {
+                id: id(),
+                count: p.vertices.len(),
+            },
+            PolygonDefect::NonFinite(i) => ScenarioError::NonFinite {
+                what: format!("polygon {:?} vertex {i}", p.id),
+                value: if p.vertices[i][0].is_finite() {
+                    p.vertices[i][1]
+                } else {
+                    p.vertices[i][0]
+                },
+            },
+            PolygonDefect::Repeated(index) => ScenarioError::RepeatedVertex { id: id(), index },
+            PolygonDefect::Collinear(index) => ScenarioError::CollinearVertices { id: id(), index },
+            PolygonDefect::Clockwise => ScenarioError::Clockwise { id: id() },
+            PolygonDefect::NotConvex(index) => ScenarioError::NotConvex { id: id(), index },
+        })?;
+        let position = finite_point(p.position, || format!("polygon {:?} position", p.id))?;
+        let velocity = finite_point(p.velocity, || format!("polygon {:?} velocity", p.id))?;
+        if p.fixed && !(velocity.x.is_zero() && velocity.y.is_zero()) {
+            return Err(ScenarioError::FixedWithVelocity { id: id() });
+        }
+        let traj = Trajectory::through(t, &position, velocity);
+        let frame = Arc::new(Frame::new(&traj, &shape));
+        let area = shape.twice_area().to_f64() / 2.0;
+        let centroid = shape.centroid();
+        Ok(Body {
+            id: p.id.clone(),
+            shape: Arc::new(shape),
+            fixed: p.fixed,
+            alive: true,
+            traj,
+            frame,
+            area,
+            centroid,
+            anchor: None,
+        })
+    }
+
     /// The moving world position of vertex `i` on the current piece.
     pub fn vertex(&self, i: usize) -> LinearPoint {
         self.frame.vertex(&self.shape, i)
@@ -149,84 +194,65 @@ impl World {
             if ids.insert(&p.id, index).is_some() {
                 return Err(ScenarioError::DuplicateId { id: p.id.clone() });
             }
-            let id = || p.id.clone();
-            let shape = BodyPolygon::new(&p.vertices).map_err(|d| match d {
-                PolygonDefect::TooFew => ScenarioError::TooFewVertices {
-                    id: id(),
-                    count: p.vertices.len(),
-                },
-                PolygonDefect::NonFinite(i) => ScenarioError::NonFinite {
-                    what: format!("polygon {:?} vertex {i}", p.id),
-                    value: if p.vertices[i][0].is_finite() {
-                        p.vertices[i][1]
-                    } else {
-                        p.vertices[i][0]
-                    },
-                },
-                PolygonDefect::Repeated(index) => ScenarioError::RepeatedVertex { id: id(), index },
-                PolygonDefect::Collinear(index) => {
-                    ScenarioError::CollinearVertices { id: id(), index }
+            bodies.push(Body::new(p, &Rational::zero())?);
+        }
+        // polygons that enter later: checked as the initial ones (their
+        // bodies are made when they enter)
+        let mut inserted: BTreeMap<&str, usize> = BTreeMap::new();
+        for (index, ins) in scenario.insertions.iter().enumerate() {
+            let p = &ins.polygon;
+            let what = || format!("insertions[{index}] time");
+            let t = event_time(ins.time, scenario.until, what, || {
+                ScenarioError::InsertionTimeOutOfRange {
+                    index,
+                    id: p.id.clone(),
+                    time: ins.time,
+                    until: scenario.until,
                 }
-                PolygonDefect::Clockwise => ScenarioError::Clockwise { id: id() },
-                PolygonDefect::NotConvex(index) => ScenarioError::NotConvex { id: id(), index },
             })?;
-            let position = finite_point(p.position, || format!("polygon {:?} position", p.id))?;
-            let velocity = finite_point(p.velocity, || format!("polygon {:?} velocity", p.id))?;
-            if p.fixed && !(velocity.x.is_zero() && velocity.y.is_zero()) {
-                return Err(ScenarioError::FixedWithVelocity { id: id() });
+            if p.id.is_empty() {
+                return Err(ScenarioError::EmptyInsertedId { index });
             }
-            let traj = Trajectory::through(&Rational::zero(), &position, velocity);
-            let frame = Arc::new(Frame::new(&traj, &shape));
-            let area = shape.twice_area().to_f64() / 2.0;
-            let centroid = shape.centroid();
-            bodies.push(Body {
-                id: p.id.clone(),
-                shape: Arc::new(shape),
-                fixed: p.fixed,
-                alive: true,
-                traj,
-                frame,
-                area,
-                centroid,
-                anchor: None,
-            });
+            if ids.contains_key(p.id.as_str()) || inserted.insert(&p.id, index).is_some() {
+                return Err(ScenarioError::DuplicateId { id: p.id.clone() });
+            }
+            Body::new(p, &t)?;
         }
         let until_time = Time::from_f64(until_f64).expect("finite");
         let mut changes = BTreeMap::new();
-        let mut seen: BTreeMap<(usize, Time), usize> = BTreeMap::new();
+        let mut seen: BTreeMap<(&str, Time), usize> = BTreeMap::new();
         let mut seq = 0u64;
         for (index, c) in scenario.flight_plan_changes.iter().enumerate() {
-            let Some(&body) = ids.get(c.id.as_str()) else {
-                return Err(ScenarioError::UnknownChangeId {
-                    index,
-                    id: c.id.clone(),
-                });
+            let spec = match (ids.get(c.id.as_str()), inserted.get(c.id.as_str())) {
+                (Some(&i), _) => &scenario.polygons[i],
+                (None, Some(&i)) => &scenario.insertions[i].polygon,
+                (None, None) => {
+                    return Err(ScenarioError::UnknownChangeId {
+                        index,
+                        id: c.id.clone(),
+                    })
+                }
             };
-            if scenario.polygons[body].fixed {
+            if spec.fixed {
                 return Err(ScenarioError::FixedWithChange {
                     index,
                     id: c.id.clone(),
                 });
             }
-            if !c.time.is_finite() {
-                return Err(ScenarioError::NonFinite {
-                    what: format!("flight_plan_changes[{index}] time"),
-                    value: c.time,
-                });
-            }
-            if !(c.time > 0.0 && c.time <= scenario.until) {
-                return Err(ScenarioError::ChangeTimeOutOfRange {
+            let what = || format!("flight_plan_changes[{index}] time");
+            let t = event_time(c.time, scenario.until, what, || {
+                ScenarioError::ChangeTimeOutOfRange {
                     index,
                     id: c.id.clone(),
                     time: c.time,
                     until: scenario.until,
-                });
-            }
+                }
+            })?;
             let velocity = finite_point(c.velocity, || {
                 format!("flight_plan_changes[{index}] velocity")
             })?;
-            let t = Time::from_f64(c.time).expect("finite");
-            if let Some(first) = seen.insert((body, t.clone()), index) {
+            let t = Time::from_rational(t);
+            if let Some(first) = seen.insert((&c.id, t.clone()), index) {
                 return Err(ScenarioError::DuplicateChange {
                     first,
                     second: index,
@@ -234,16 +260,78 @@ impl World {
                     time: c.time,
                 });
             }
-            if t <= until_time {
-                changes.insert(
-                    (t, seq),
-                    Change {
-                        body: BodyId(body as u32),
-                        velocity,
-                        anchor: false,
-                    },
-                );
-                seq += 1;
+            if let Some(&i) = inserted.get(c.id.as_str()) {
+                let entered = scenario.insertions[i].time;
+                if c.time <= entered {
+                    return Err(ScenarioError::ChangeOutsideLifetime {
+                        index,
+                        id: c.id.clone(),
+                        time: c.time,
+                        why: format!("at or before its insertion at time {entered}"),
+                    });
+                }
+            }
+            if let Some(&body) = ids.get(c.id.as_str()) {
+                if t <= until_time {
+                    changes.insert(
+                        (t, seq),
+                        Change {
+                            body: BodyId(body as u32),
+                            velocity,
+                            anchor: false,
+                        },
+                    );
+                    seq += 1;
+                }
+            }
+        }
+        let mut removed: BTreeMap<&str, usize> = BTreeMap::new();
+        for (index, r) in scenario.removals.iter().enumerate() {
+            let what = || format!("removals[{index}] time");
+            event_time(r.time, scenario.until, what, || {
+                ScenarioError::RemovalTimeOutOfRange {
+                    index,
+                    id: r.id.clone(),
+                    time: r.time,
+                    until: scenario.until,
+                }
+            })?;
+            if !ids.contains_key(r.id.as_str()) && !inserted.contains_key(r.id.as_str()) {
+                return Err(ScenarioError::UnknownRemovalId {
+                    index,
+                    id: r.id.clone(),
+                });
+            }
+            if let Some(first) = removed.insert(&r.id, index) {
+                return Err(ScenarioError::DuplicateRemoval {
+                    first,
+                    second: index,
+                    id: r.id.clone(),
+                });
+            }
+            if let Some(&i) = inserted.get(r.id.as_str()) {
+                let entered = scenario.insertions[i].time;
+                if r.time <= entered {
+                    return Err(ScenarioError::RemovalNotAfterInsertion {
+                        index,
+                        id: r.id.clone(),
+                        time: r.time,
+                        inserted: entered,
+                    });
+                }
+            }
+        }
+        for (index, c) in scenario.flight_plan_changes.iter().enumerate() {
+            if let Some(&i) = removed.get(c.id.as_str()) {
+                let left = scenario.removals[i].time;
+                if c.time >= left {
+                    return Err(ScenarioError::ChangeOutsideLifetime {
+                        index,
+                        id: c.id.clone(),
+                        time: c.time,
+                        why: format!("at or after its removal at time {left}"),
+                    });
+                }
             }
         }
         let world = World {
@@ -407,6 +495,88 @@ impl World {
         .flat_map(|r| [r.numer().bit_len(), r.denom().bit_len()])
         .max()
         .unwrap_or(0) as u64
+    }
+
+    /// Take the scenario's flight-plan changes out of the queue (the bridge
+    /// ends stay): the caller applies them itself with
+    /// [`World::change_velocity`]. In queue order.
+    pub(crate) fn take_plan(&mut self) -> Vec<(Time, BodyId, Point)> {
+        let plan: Vec<(Time, u64)> = self
+            .changes
+            .iter()
+            .filter(|(_, c)| !c.anchor)
+            .map(|(k, _)| k.clone())
+            .collect();
+        plan.into_iter()
+            .map(|k| {
+                let c = self.changes.remove(&k).expect("listed");
+                (k.0, c.body, c.velocity)
+            })
+            .collect()
+    }
+
+    /// The first alive body that `body` (not in the world) would touch or
+    /// overlap at time `t`, if any: a box test first, exact on candidates.
+    fn first_contact_with(&self, body: &Body, t: &Rational) -> Option<BodyId> {
+        let bounds = |b: &Body| {
+            let p = b.traj.position_at(t);
+            let (x, y) = (p.x.interval(), p.y.interval());
+            let bx = b.shape.bounds();
+            [
+                (bx[0] + x.lo).next_down(),
+                (bx[1] + x.hi).next_up(),
+                (bx[2] + y.lo).next_down(),
+                (bx[3] + y.hi).next_up(),
+            ]
+        };
+        let nb = bounds(body);
+        let pos = body.traj.position_at(t);
+        self.bodies.iter().enumerate().find_map(|(i, o)| {
+            let ob = bounds(o);
+            let meets =
+                o.alive && ob[0] <= nb[1] && nb[0] <= ob[1] && ob[2] <= nb[3] && nb[2] <= ob[3];
+            (meets
+                && crate::geom::placed_polygons_intersect(
+                    &body.shape,
+                    &pos,
+                    &o.shape,
+                    &o.traj.position_at(t),
+                ))
+            .then_some(BodyId(i as u32))
+        })
+    }
+
+    /// Add polygon `p` at time `t` (its `position` given at `t`), unless it
+    /// breaks a rule of the contract or touches or overlaps an alive body
+    /// (`Err(Ok(that body))`); nothing changes then. The caller checks that
+    /// its id is new.
+    pub(crate) fn insert(
+        &mut self,
+        p: &PolygonSpec,
+        t: &Rational,
+    ) -> Result<BodyId, Result<BodyId, ScenarioError>> {
+        let body = Body::new(p, t).map_err(Err)?;
+        if let Some(other) = self.first_contact_with(&body, t) {
+            return Err(Ok(other));
+        }
+        self.bodies.push(body);
+        Ok(BodyId(self.bodies.len() as u32 - 1))
+    }
+
+    /// Remove one body at once, fixed ones included; whether it was alive.
+    pub(crate) fn remove_any(&mut self, id: BodyId) -> bool {
+        let b = &mut self.bodies[id.index()];
+        let was = b.alive;
+        b.alive = false;
+        b.anchor = None;
+        was
+    }
+
+    /// From time `t` on, body `id` moves with velocity `v`, its position
+    /// continuous (with a bridge where `t` or the position is not dyadic:
+    /// module docs). The caller checks that the body is alive and not fixed.
+    pub(crate) fn change_velocity(&mut self, id: BodyId, t: &Rational, v: Point) {
+        self.set_velocity(id, t, v, None);
     }
 
     /// Remove bodies (`remove` mode); fixed bodies stay.
@@ -700,6 +870,26 @@ fn centroid_f64(ps: &[[f64; 2]]) -> [f64; 2] {
         .iter()
         .fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
     [s[0] / n, s[1] / n]
+}
+
+/// The exact time of a scheduled entry: finite (else `NonFinite` naming
+/// `what`) and in `(0, until]` (else `out_of_range`).
+fn event_time(
+    time: f64,
+    until: f64,
+    what: impl Fn() -> String,
+    out_of_range: impl Fn() -> ScenarioError,
+) -> Result<Rational, ScenarioError> {
+    if !time.is_finite() {
+        return Err(ScenarioError::NonFinite {
+            what: what(),
+            value: time,
+        });
+    }
+    if !(time > 0.0 && time <= until) {
+        return Err(out_of_range());
+    }
+    Ok(Rational::from_f64(time).expect("finite"))
 }
 
 fn finite_point(p: [f64; 2], what: impl Fn() -> String) -> Result<Point, ScenarioError> {

@@ -41,6 +41,7 @@ fn scenario(mode: CollisionMode, until: f64, polygons: Vec<PolygonSpec>) -> Scen
         on_collision: mode,
         polygons,
         flight_plan_changes: vec![],
+        ..Default::default()
     }
 }
 

@@ -127,6 +127,7 @@ fn removal_among_collinear_squares_is_local() {
         on_collision: CollisionMode::Remove,
         polygons,
         flight_plan_changes: Vec::new(),
+        ..Default::default()
     };
     let (want, _) = events(&s, StructureKind::Brute, false);
     assert_eq!(want.len(), 1);

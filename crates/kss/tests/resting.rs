@@ -91,6 +91,7 @@ fn resting_then_apart() -> Scenario {
             change(4.0, "t1", [-1.0, 0.5]),
             change(5.0, "t1", [1.0, -0.5]),
         ],
+        ..Default::default()
     }
 }
 
@@ -198,6 +199,7 @@ fn contact_at_a_plan_change_then_apart() -> Scenario {
             change(2.0, "b1", [-0.125, 0.0]),
             change(3.0, "b1", [-1.0, -1.0]),
         ],
+        ..Default::default()
     }
 }
 
@@ -281,6 +283,7 @@ fn a_vertex_resting_on_a_vertex_on_the_hull_then_parted_in_any_direction() {
                             change(1.0, "B", [0.0, 0.0]),
                             change(2.0, who, [vx, vy]),
                         ],
+                        ..Default::default()
                     };
                     let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
                     let case = format!("{who} moves ({vx}, {vy}), third {third}");
@@ -520,6 +523,7 @@ fn random_contacts_that_rest_then_part() {
                 change(1.0, "B", [0.0, 0.0]),
                 change(2.0, who, [v[0] * speed, v[1] * speed]),
             ],
+            ..Default::default()
         };
         let Ok((want, _)) = events(&s, StructureKind::Brute, false) else {
             continue; // (touching at the start: not a scenario)

@@ -23,6 +23,7 @@ fn base() -> Scenario {
         on_collision: CollisionMode::Stop,
         polygons: vec![sq("a", 0.0, 0.0), sq("b", 3.0, 0.0)],
         flight_plan_changes: vec![],
+        ..Default::default()
     }
 }
 
@@ -313,6 +314,7 @@ fn arb_scenario() -> impl Strategy<Value = Scenario> {
                 on_collision,
                 polygons,
                 flight_plan_changes,
+                ..Default::default()
             },
         )
 }

@@ -478,6 +478,7 @@ mod larger_tests {
                 id: "b".into(),
                 velocity: [-3.5, 2.5],
             }],
+            ..Default::default()
         };
         let world = World::new(&s, None).unwrap();
         let world = Geo::plain(&world);

@@ -336,6 +336,7 @@ mod tests {
             on_collision: CollisionMode::Stop,
             polygons: vec![square("a", 0.0, 0.0, 0.0), square("b", 3.0, 0.5, -1.0)],
             flight_plan_changes: vec![],
+            ..Default::default()
         };
         let w = World::new(&s, None).unwrap();
         let w = Geo::plain(&w);

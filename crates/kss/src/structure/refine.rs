@@ -22,24 +22,23 @@ use crate::geom::orient;
 use crate::hier::EdgeArray;
 use crate::motion::dot_poly;
 use crate::num::{Rational, Sign, Time};
-use crate::world::{BodyId, World};
+use crate::world::{Body, BodyId, World};
 
 /// Every alive body seen through the coarsest approximation of its
 /// hierarchy (at most about 32 lines each).
 pub fn coarsest_shapes(world: &World) -> Shapes {
     Shapes {
-        per: world
-            .bodies()
-            .iter()
-            .map(|b| {
-                b.alive.then(|| {
-                    let array = Arc::new(EdgeArray::new(&b.shape));
-                    let exposed = array.coarsest();
-                    Approx { array, exposed }
-                })
-            })
-            .collect(),
+        per: world.bodies().iter().map(coarsest_shape).collect(),
     }
+}
+
+/// The coarsest approximation of `b`'s hierarchy (`None` for a removed body).
+pub fn coarsest_shape(b: &Body) -> Option<Approx> {
+    b.alive.then(|| {
+        let array = Arc::new(EdgeArray::new(&b.shape));
+        let exposed = array.coarsest();
+        Approx { array, exposed }
+    })
 }
 
 /// Pop vertex `a` of its body's approximation; whether it changed.

@@ -1,0 +1,1237 @@
+//! The engines that find collisions: the brute-force reference and the
+//! kinetic structure (plain or hierarchical), behind one trait that the
+//! [`crate::simulation::Simulation`] drives. An engine only finds *when* and
+//! *which* polygons collide; the [`World`] holds the motions.
+
+use std::collections::BTreeMap;
+
+use crate::brute::{Brute, PairMethod};
+use crate::num::{Rational, Time};
+use crate::scenario::ScenarioError;
+use crate::structure::engine::{Kinetic, Step};
+use crate::structure::geo::{Geo, Shapes};
+use crate::structure::{refine, Att, Obj};
+use crate::world::{BodyId, World};
+
+/// Debug output for `--features trace` builds only.
+macro_rules! trace {
+    ($($arg:tt)*) => {
+        #[cfg(feature = "trace")]
+        eprintln!($($arg)*);
+    };
+}
+
+/// Which kinetic structure computes the collisions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum StructureKind {
+    /// The separation-sensitive hierarchical structure (the default).
+    #[default]
+    Hierarchical,
+    /// The kinetic separation structure without the hierarchy.
+    Plain,
+    /// All-pairs exact time of impact: the reference.
+    Brute,
+}
+
+impl StructureKind {
+    /// The contract's name (`"hierarchical"`, `"plain"`, `"brute"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            StructureKind::Hierarchical => "hierarchical",
+            StructureKind::Plain => "plain",
+            StructureKind::Brute => "brute",
+        }
+    }
+}
+
+/// Why a run could not complete.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The scenario is invalid.
+    #[error(transparent)]
+    Invalid(#[from] ScenarioError),
+    /// The requested structure is not available yet.
+    #[error("structure `{0}` is not implemented yet; use --structure brute")]
+    NotImplemented(&'static str),
+    /// A polygon inserted during the run touches or overlaps a polygon in
+    /// the scene at its insertion time (checked during the run: presence
+    /// can depend on earlier collisions).
+    #[error("polygon {inserted:?}, inserted at t = {time}, touches or overlaps polygon {present:?}, which is in the scene then; insert it elsewhere or at another time")]
+    InsertionTouches {
+        /// The inserted polygon.
+        inserted: String,
+        /// The present polygon it meets.
+        present: String,
+        /// The insertion time.
+        time: f64,
+    },
+    /// A broken invariant: a bug in kss.
+    #[error("internal error (a bug in kss, please report it): {0}")]
+    Internal(String),
+}
+
+/// The earliest collision instant and the pairs colliding then.
+pub(crate) type Collisions = Option<(Time, Vec<(BodyId, BodyId)>)>;
+
+/// A structure that finds collisions, driven by [`drive`].
+pub(crate) trait Engine {
+    /// Process internal events up to the earliest collision time at most
+    /// `limit`; return that time and every pair colliding then.
+    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError>;
+    /// The world changed at `now`: `bodies` changed trajectory or were
+    /// removed; `reported` were just reported as colliding.
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError>;
+    /// The time of the next internal event, if any (for choosing audit instants).
+    fn next_time(&self) -> Option<Time>;
+    /// Check every invariant at the rational instant `at` (strictly between
+    /// events; `now` is the last event time).
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String>;
+    /// Body `b` entered the world at `now`; it touches no alive body then.
+    fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError>;
+    /// The kinetic engine, if this is one (for pictures of the structure).
+    fn into_kinetic(self: Box<Self>) -> Option<KineticEngine> {
+        None
+    }
+    /// Active certificates now and at most.
+    fn certificates(&self) -> (u64, u64);
+    /// Internal events by kind.
+    fn internal_events(&self) -> BTreeMap<String, u64>;
+    /// Times the structure was rebuilt from scratch: after removals, and at
+    /// degenerate instants, and when a pop could not be done in place.
+    fn rebuilds(&self) -> (u64, u64, u64) {
+        (0, 0, 0)
+    }
+    /// Times the structure was built again for an inserted polygon.
+    fn insert_rebuilds(&self) -> u64 {
+        0
+    }
+    /// Approximation vertices merged away (coarsening).
+    fn merges(&self) -> u64 {
+        0
+    }
+    /// Polygons removed in place.
+    fn local_removals(&self) -> u64 {
+        0
+    }
+    /// Degenerate instants repaired by a local retriangulation.
+    fn local_repairs(&self) -> u64 {
+        0
+    }
+
+    /// Times the reference stood in for the structure, and times the
+    /// structure took over again.
+    fn stand_ins(&self) -> (u64, u64) {
+        (0, 0)
+    }
+}
+
+/// The world's current time, which is always rational (updates happen at
+/// collision and flight-plan instants).
+fn world_time(now: &Time) -> Result<&Rational, RunError> {
+    now.as_rational()
+        .ok_or_else(|| RunError::Internal("irrational world time".into()))
+}
+
+struct BruteEngine(Brute);
+
+impl Engine for BruteEngine {
+    fn next_collisions(&mut self, _world: &World, limit: &Time) -> Result<Collisions, RunError> {
+        Ok(self.0.next_collisions(limit))
+    }
+
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        let now = world_time(now)?;
+        self.0.update(world, now, bodies, reported);
+        Ok(())
+    }
+
+    fn next_time(&self) -> Option<Time> {
+        self.0.next_time().cloned()
+    }
+
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        let now = now.as_rational().ok_or("irrational world time")?;
+        self.0.audit(world, now, at)
+    }
+
+    fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
+        let now = world_time(now)?;
+        self.0.update(world, now, &[b], &[]);
+        Ok(())
+    }
+
+    fn certificates(&self) -> (u64, u64) {
+        (self.0.queued() as u64, self.0.max_queued() as u64)
+    }
+
+    fn internal_events(&self) -> BTreeMap<String, u64> {
+        BTreeMap::new()
+    }
+}
+
+pub(crate) fn make_engine(
+    world: &World,
+    structure: StructureKind,
+    audit: bool,
+    pair_method: PairMethod,
+) -> Result<Box<dyn Engine>, RunError> {
+    match structure {
+        StructureKind::Brute => Ok(Box::new(BruteEngine(Brute::new(world, pair_method)))),
+        StructureKind::Plain => Ok(Box::new(KineticEngine::new(world, audit, false)?)),
+        StructureKind::Hierarchical => Ok(Box::new(KineticEngine::new(world, audit, true)?)),
+    }
+}
+
+/// The kinetic separation structure, on the polygons (`plain`) or on their
+/// hierarchical outer approximations (`hierarchical`).
+pub(crate) struct KineticEngine {
+    pub(crate) k: Kinetic,
+    /// How the structure sees the bodies: real polygons for `plain`, the
+    /// current approximations for `hierarchical`.
+    pub(crate) shapes: Shapes,
+    /// Audit after every internal event too (not only after collisions and
+    /// flight-plan changes).
+    audit: bool,
+    /// The last instant with contacts and how many times in a row contacts
+    /// were returned at it (a guard against a contact that keeps failing
+    /// after the collision response).
+    contact_instant: Option<(Time, u32)>,
+    /// The pairs that had a collision response at the latest instant with
+    /// one (`bounce` mode), and the bodies whose motion changed then (by a
+    /// response or a flight-plan change): as the reference recomputes these
+    /// pairs at that instant, a later failure of such a pair at it is a
+    /// collision only if they interpenetrate just after it (a contact that
+    /// began with the old motions was reported before the change).
+    responded: Option<Responded>,
+    /// Approximations (`hierarchical`) or the polygons themselves (`plain`).
+    hierarchical: bool,
+    /// The instant of the latest [`Engine::update`] (0 before the first).
+    last_update: Rational,
+    /// The reference, standing in while polygons rest in contact (see
+    /// [`KineticEngine::stand_in`]).
+    stand_in: Option<StandIn>,
+    /// The most pair times the reference held while it stood in (part of
+    /// `certificates_max`).
+    stand_in_max: u64,
+    /// Pairs that touched without a collision at this instant (hierarchy
+    /// only): once every contact of the instant is known, the approximation
+    /// points that would slide along the other body are popped, as after a
+    /// collision response.
+    settled: Option<(Time, Vec<(BodyId, BodyId)>)>,
+}
+
+/// The reference engine standing in for the kinetic structure while two
+/// polygons rest (or slide) in contact and no structure can be built.
+struct StandIn {
+    brute: BruteEngine,
+    /// The pairs in contact on an interval that begins at the latest
+    /// update, with the end of that interval (`None`: on the current
+    /// motions, never).
+    resting: BTreeMap<(BodyId, BodyId), Option<Rational>>,
+}
+
+/// The pairs of `world` that are in contact on a whole interval beginning
+/// at `t`, among those that involve a body of `bodies` (every pair when
+/// `bodies` is `None`), with the end of that interval.
+fn resting_pairs(
+    world: &World,
+    bodies: Option<&[BodyId]>,
+    t: &Rational,
+) -> Vec<((BodyId, BodyId), Option<Rational>)> {
+    let n = world.len() as u32;
+    let mut out = Vec::new();
+    let mut test = |a: BodyId, b: BodyId| {
+        if a == b || !world.pair_active(a, b) {
+            return;
+        }
+        let key = (a.min(b), a.max(b));
+        if let Some(end) =
+            crate::brute::contact_interval(world, key.0, key.1, PairMethod::Fast).rests_after(t)
+        {
+            out.push((key, end));
+        }
+    };
+    match bodies {
+        None => {
+            for i in 0..n {
+                for j in i + 1..n {
+                    test(BodyId(i), BodyId(j));
+                }
+            }
+        }
+        Some(bodies) => {
+            for &c in bodies {
+                for o in (0..n).map(BodyId) {
+                    // a pair of two listed bodies once
+                    if !(o < c && bodies.contains(&o)) {
+                        test(c, o);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The pairs that had a collision response at an instant and the bodies
+/// whose motion changed then (see [`KineticEngine::responded`]).
+type Responded = (Time, Vec<(BodyId, BodyId)>, Vec<BodyId>);
+
+impl KineticEngine {
+    pub(crate) fn new(
+        world: &World,
+        audit: bool,
+        hierarchical: bool,
+    ) -> Result<KineticEngine, RunError> {
+        let mut shapes = Shapes::default();
+        let mut pops = 0;
+        if hierarchical {
+            shapes = refine::coarsest_shapes(world);
+            pops = refine::separate_all_at(world, &mut shapes, &Rational::zero())
+                .map_err(RunError::Internal)?;
+        }
+        let mut k = Kinetic::new(
+            &Geo {
+                world,
+                shapes: &shapes,
+            },
+            &Rational::zero(),
+        );
+        // the hierarchy: an approximation point can sit on another body's
+        // line for ever (their motions parallel), where the normalization
+        // finds no decomposition; refine every approximation one level and
+        // try again (at worst the polygons themselves: plain's construction)
+        while let Err(e) = &k {
+            let popped = if hierarchical {
+                refine::pop_every_level(world, &mut shapes)
+            } else {
+                0
+            };
+            if popped == 0 {
+                return Err(RunError::Internal(e.clone()));
+            }
+            pops += popped;
+            k = Kinetic::new(
+                &Geo {
+                    world,
+                    shapes: &shapes,
+                },
+                &Rational::zero(),
+            );
+        }
+        let mut k = k.map_err(RunError::Internal)?;
+        if pops > 0 {
+            *k.counts.entry("initial_pop").or_default() += pops;
+        }
+        Ok(KineticEngine {
+            k,
+            shapes,
+            audit,
+            contact_instant: None,
+            responded: None,
+            hierarchical,
+            last_update: Rational::zero(),
+            stand_in: None,
+            stand_in_max: 0,
+            settled: None,
+        })
+    }
+
+    fn audit_now(&self, world: &World, now: &Time) -> Result<(), RunError> {
+        let mut next = world.until().clone();
+        for t in [self.k.next_time(), world.next_change_time()]
+            .into_iter()
+            .flatten()
+        {
+            if *t < next {
+                next = t.clone();
+            }
+        }
+        if *now >= next {
+            return Ok(());
+        }
+        let at = now.rational_between(&next);
+        self.audit_at(world, now, &at).map_err(|e| {
+            RunError::Internal(format!(
+                "audit failed after an internal event at t = {now}: {e}"
+            ))
+        })
+    }
+}
+
+impl KineticEngine {
+    fn geo<'a>(&'a self, world: &'a World) -> Geo<'a> {
+        Geo {
+            world,
+            shapes: &self.shapes,
+        }
+    }
+
+    /// The structure's audit, and for the hierarchy every approximation's
+    /// exposed set (dyadic gaps with acute turns) and that every two
+    /// approximations have disjoint interiors.
+    fn audit_at(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        for (i, ap) in self.shapes.per.iter().enumerate() {
+            if let Some(ap) = ap {
+                let body = world.body(BodyId(i as u32));
+                if body.alive {
+                    ap.array
+                        .check_exposed(&body.shape, &ap.exposed)
+                        .map_err(|e| format!("approximation of {}: {e}", body.id))?;
+                }
+            }
+        }
+        if !self.shapes.per.is_empty() {
+            refine::check_apart(world, &self.shapes, at)?;
+        }
+        self.k.audit(&self.geo(world), now, at)
+    }
+
+    /// Approximations touch at `t` where the polygons do not: pop the
+    /// approximation vertices of the failing triples, refine the
+    /// approximations until they are apart just after `t`, and rebuild the
+    /// structure on the refined approximations (now, or after the collision
+    /// response when contacts are pending at `t`). Called once every
+    /// possible contact of the instant has been classified, so that a
+    /// contact at `t` is never lost in the rebuild.
+    fn refine(
+        &mut self,
+        world: &World,
+        t: &Time,
+        triples: &[[Att; 3]],
+        after_response: bool,
+    ) -> Result<(), RunError> {
+        let mut pops = 0u64;
+        let mut popped: Vec<Att> = triples
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|&a| !self.geo(world).is_real(a))
+            .collect();
+        popped.sort();
+        popped.dedup();
+        // each pop updates the structure in place; once one cannot, the
+        // rest only refine the approximations and the structure is rebuilt
+        let mut pops_in = LocalPops::new(&mut self.k, world, t);
+        let mut popper = |shapes: &mut Shapes, a: Att| pops_in.pop(shapes, a);
+        for a in popped {
+            pops += u64::from(popper(&mut self.shapes, a).map_err(RunError::Internal)?);
+        }
+        let mut bodies: Vec<BodyId> = triples
+            .iter()
+            .flatten()
+            .filter_map(|a| match a.obj {
+                Obj::Body(b) => Some(b),
+                Obj::Omega => None,
+            })
+            .collect();
+        bodies.sort();
+        bodies.dedup();
+        for i in 0..bodies.len() {
+            for j in i + 1..bodies.len() {
+                pops += refine::separate_after(
+                    world,
+                    &mut self.shapes,
+                    (bodies[i], bodies[j]),
+                    t,
+                    &mut popper,
+                )
+                .map_err(RunError::Internal)?;
+            }
+        }
+        let local = pops_in.local;
+        *self.k.counts.entry("pop").or_default() += pops;
+        let geo = Geo {
+            world,
+            shapes: &self.shapes,
+        };
+        if local || (!after_response && self.k.repair_refined(&geo, &bodies, triples, t)) {
+            for p in triples {
+                self.k.reschedule_idle(&geo, p, t);
+            }
+        } else if after_response {
+            self.k
+                .rebuild_after_response("refine_rebuild", (&bodies, triples));
+        } else {
+            self.k
+                .rebuild_after(&geo, t, "refine_rebuild")
+                .map_err(RunError::Internal)?;
+        }
+        Ok(())
+    }
+}
+
+/// Pops of approximation vertices at instant `t`, each done in place in the
+/// structure until one cannot be; after that only the approximations
+/// change, and the caller rebuilds the structure (`local` is then false).
+struct LocalPops<'a> {
+    k: &'a mut Kinetic,
+    world: &'a World,
+    t: &'a Time,
+    local: bool,
+}
+
+impl<'a> LocalPops<'a> {
+    fn new(k: &'a mut Kinetic, world: &'a World, t: &'a Time) -> LocalPops<'a> {
+        LocalPops {
+            k,
+            world,
+            t,
+            local: true,
+        }
+    }
+
+    /// Pop `a`; whether the approximation changed.
+    fn pop(&mut self, shapes: &mut Shapes, a: Att) -> Result<bool, String> {
+        if self.local {
+            let (changed, followed) = self.k.pop_local(self.world, shapes, a, self.t)?;
+            self.local = followed;
+            Ok(changed)
+        } else {
+            Ok(refine::pop(shapes, a))
+        }
+    }
+}
+
+impl KineticEngine {
+    /// Pop the approximations of the pairs that touched without a collision
+    /// at the pending instant (`settled`), once nothing of that instant is
+    /// still queued (with `idle`, at once: nothing is left below the
+    /// limit). Returns whether it did.
+    fn unslide_settled(&mut self, world: &World, idle: bool) -> Result<bool, RunError> {
+        if self.stand_in.is_some() {
+            self.settled = None;
+        }
+        let due = match &self.settled {
+            None => return Ok(false),
+            Some((t, _)) => !idle && self.k.next_time() == Some(t),
+        };
+        if due {
+            return Ok(false);
+        }
+        let (t, pairs) = self.settled.take().expect("checked");
+        self.refine_responded(world, &t, &pairs)?;
+        if self.audit {
+            self.audit_now(world, &t)?;
+        }
+        Ok(true)
+    }
+
+    /// After a collision response (hierarchy only): the pairs that collided
+    /// may now slide along each other, and an approximation edge may not
+    /// slide along a vertex of the other body, nor an approximation vertex
+    /// along an edge (see `refine::involved`), so those approximation
+    /// points are popped until only real points slide.
+    fn refine_responded(
+        &mut self,
+        world: &World,
+        t: &Time,
+        pairs: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        if self.shapes.per.is_empty() || pairs.is_empty() {
+            return Ok(());
+        }
+        let mut pops = 0u64;
+        let mut pops_in = LocalPops::new(&mut self.k, world, t);
+        let mut popper = |shapes: &mut Shapes, a: Att| pops_in.pop(shapes, a);
+        let r = t
+            .as_rational()
+            .ok_or_else(|| RunError::Internal("irrational collision time".into()))?;
+        for &(a, b) in pairs {
+            // a pair that still interpenetrates gets another response at
+            // this instant first
+            let again = || {
+                crate::brute::contact_interval(world, a, b, PairMethod::Fast).next_contact(r)
+                    == Some(r.clone())
+            };
+            if world.body(a).alive && world.body(b).alive && !again() {
+                pops += refine::unslide_after(world, &mut self.shapes, (a, b), t, &mut popper)
+                    .map_err(RunError::Internal)?;
+            }
+        }
+        let local = pops_in.local;
+        if pops > 0 {
+            *self.k.counts.entry("pop").or_default() += pops;
+        }
+        if !local {
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            let mut bodies: Vec<BodyId> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
+            bodies.sort();
+            bodies.dedup();
+            if !self.k.repair_refined(&geo, &bodies, &[], t) {
+                self.k
+                    .rebuild_after(&geo, t, "refine_rebuild")
+                    .map_err(RunError::Internal)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl KineticEngine {
+    /// Where no structure can be built for just after an instant because
+    /// two polygons stay in contact there (a resting or sliding contact
+    /// that a rebuild meets: the pseudo-triangulation needs a free space
+    /// that is not pinched), the reference takes over from the latest
+    /// update, when the world's motions were last changed, until no pair
+    /// rests in contact at an update. Any other failure stays an error.
+    /// Counted in `--stats` as `stand_ins`.
+    fn stand_in(&mut self, world: &World, error: String) -> Result<(), RunError> {
+        let Some(at) = self.k.unbuildable.take() else {
+            return Err(RunError::Internal(error));
+        };
+        let Some(at) = at.as_rational() else {
+            return Err(RunError::Internal(error));
+        };
+        let resting = resting_pairs(world, None, at);
+        // a response at the latest update that leaves a pair overlapping:
+        // it collides again at that instant (the reference's rule), and no
+        // structure exists before that second response
+        let brute = Brute::new_at(world, PairMethod::Fast, &self.last_update);
+        let again =
+            *at == self.last_update && brute.next_time().and_then(Time::as_rational) == Some(at);
+        if resting.is_empty() && !again {
+            // the hierarchy: approximations may stay in contact where the
+            // polygons do not; refine them until they are strictly apart
+            if self.hierarchical && self.rebuild_refined(world, &Time::from_rational(at.clone())) {
+                return Ok(());
+            }
+            return Err(RunError::Internal(error));
+        }
+        // the structure went through every instant before `at` (and, at an
+        // `at` after the latest update, classified its contacts before any
+        // rebuild): a reference collision there is one it missed, not a
+        // resting contact
+        if let Some(t) = brute.next_time() {
+            let at_t = Time::from_rational(at.clone());
+            if *t < at_t || (*t == at_t && *at > self.last_update) {
+                return Err(RunError::Internal(format!(
+                    "{error}; the structure missed a collision at t = {t}"
+                )));
+            }
+        }
+        trace!(
+            "no structure after {}: {} pairs rest in contact; the reference stands in",
+            at.to_f64(),
+            resting.len()
+        );
+        // (the pops waiting for this instant are the fresh structure's
+        // business when the reference hands back)
+        self.settled = None;
+        self.stand_in = Some(StandIn {
+            brute: BruteEngine(brute),
+            resting: resting.into_iter().collect(),
+        });
+        *self.k.counts.entry("stand_in").or_default() += 1;
+        Ok(())
+    }
+
+    /// After an update at `now` with the reference standing in: once no
+    /// pair rests in contact, build the structure afresh for just after
+    /// `now` (fresh approximations for the hierarchy) and hand back to it.
+    /// No pair rests, so a failure is not a resting contact: an error.
+    fn end_stand_in(&mut self, world: &World, now: &Time) -> Result<(), RunError> {
+        let Some(s) = &mut self.stand_in else {
+            return Ok(());
+        };
+        let r = now.as_rational().expect("rational update instants");
+        s.resting
+            .retain(|_, end| end.as_ref().is_none_or(|e| e > r));
+        // a pair still in contact, or one that overlaps after this
+        // response and collides again at this instant: not yet
+        if !s.resting.is_empty() || s.brute.0.next_time() == Some(now) {
+            return Ok(());
+        }
+        let mut shapes = Shapes::default();
+        if self.hierarchical {
+            shapes = refine::coarsest_shapes(world);
+            refine::separate_all_strictly_after(world, &mut shapes, now)
+                .map_err(RunError::Internal)?;
+        }
+        let geo = Geo {
+            world,
+            shapes: &shapes,
+        };
+        match self.k.rebuild_after(&geo, now, "stand_in_end") {
+            Ok(()) => {
+                self.shapes = shapes;
+                if let Some(s) = self.stand_in.take() {
+                    self.stand_in_max = self.stand_in_max.max(s.brute.certificates().1);
+                }
+                self.contact_instant = None;
+                Ok(())
+            }
+            Err(e) => {
+                self.k.unbuildable = None;
+                Err(RunError::Internal(format!(
+                    "no pair rests in contact, yet the structure cannot take over: {e}"
+                )))
+            }
+        }
+    }
+
+    /// The hierarchy, where no structure was found for just after `t` and
+    /// no two polygons stay in contact there: pop approximations until
+    /// every two are strictly apart just after `t`, or, where they are, one
+    /// level finer everywhere (an approximation vertex on another body's
+    /// line for ever defeats the normalization), and rebuild (counted as
+    /// `refine_rebuild`), a few rounds at most; whether that worked.
+    /// (Approximations may lie flush, or touch at a point, where the
+    /// polygons only touched at `t`.)
+    fn rebuild_refined(&mut self, world: &World, t: &Time) -> bool {
+        let mut shapes = self.shapes.clone();
+        let mut total = 0;
+        for _ in 0..4 {
+            let pops = match refine::separate_all_strictly_after(world, &mut shapes, t) {
+                Ok(0) => refine::pop_every_level(world, &mut shapes),
+                Ok(pops) => pops,
+                Err(_) => return false,
+            };
+            if pops == 0 {
+                return false;
+            }
+            total += pops;
+            let geo = Geo {
+                world,
+                shapes: &shapes,
+            };
+            match self.k.rebuild_after(&geo, t, "refine_rebuild") {
+                Ok(()) => {
+                    *self.k.counts.entry("pop").or_default() += total;
+                    self.shapes = shapes;
+                    return true;
+                }
+                Err(_e) => {
+                    trace!("no refined rebuild at {}: {_e}", t.to_f64());
+                    self.k.unbuildable = None;
+                }
+            }
+        }
+        false
+    }
+}
+
+impl Engine for KineticEngine {
+    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
+        if let Some(s) = &mut self.stand_in {
+            return s.brute.next_collisions(world, limit);
+        }
+        match self.kinetic_next_collisions(world, limit) {
+            Err(RunError::Internal(e)) => {
+                self.stand_in(world, e)?;
+                self.next_collisions(world, limit)
+            }
+            other => other,
+        }
+    }
+
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        let r = world_time(now)?.clone();
+        self.last_update = r.clone();
+        // kept while the reference stands in too: a hand-over at `now` is
+        // followed by the structure's own updates at `now`
+        let pairs = reported.iter().map(|&(a, b)| (a.min(b), a.max(b)));
+        match &mut self.responded {
+            Some((t, v, moved)) if t == now => {
+                v.extend(pairs);
+                moved.extend_from_slice(bodies);
+            }
+            r => *r = Some((now.clone(), pairs.collect(), bodies.to_vec())),
+        }
+        if let Some(s) = &mut self.stand_in {
+            s.brute.update(world, now, bodies, reported)?;
+            let mut touched: Vec<BodyId> = bodies.to_vec();
+            touched.extend(reported.iter().flat_map(|&(a, b)| [a, b]));
+            touched.sort();
+            touched.dedup();
+            s.resting.retain(|&(a, b), _| {
+                world.pair_active(a, b) && !touched.contains(&a) && !touched.contains(&b)
+            });
+            s.resting.extend(resting_pairs(world, Some(&touched), &r));
+            return self.end_stand_in(world, now);
+        }
+        match self.kinetic_update(world, now, bodies, reported) {
+            Err(RunError::Internal(e)) => self.stand_in(world, e),
+            other => other,
+        }
+    }
+
+    fn next_time(&self) -> Option<Time> {
+        match &self.stand_in {
+            Some(s) => s.brute.next_time(),
+            None => self.k.next_time().cloned(),
+        }
+    }
+
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        match &self.stand_in {
+            Some(s) => s.brute.audit(world, now, at),
+            None => self.audit_at(world, now, at),
+        }
+    }
+
+    fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
+        let r = world_time(now)?.clone();
+        self.last_update = r.clone();
+        if let Some(s) = &mut self.stand_in {
+            s.brute.insert(world, now, b)?;
+            s.resting.extend(resting_pairs(world, Some(&[b]), &r));
+            return self.end_stand_in(world, now);
+        }
+        match self.kinetic_insert(world, now, b) {
+            Err(RunError::Internal(e)) => self.stand_in(world, e),
+            other => other,
+        }
+    }
+
+    fn into_kinetic(self: Box<Self>) -> Option<KineticEngine> {
+        Some(*self)
+    }
+
+    fn certificates(&self) -> (u64, u64) {
+        let (now, max) = self.k.active();
+        // the reference's queued pair times stand in for certificates
+        let max = (max as u64).max(self.stand_in_max);
+        match &self.stand_in {
+            Some(s) => {
+                let (queued, peak) = s.brute.certificates();
+                (queued, max.max(peak))
+            }
+            None => (now as u64, max),
+        }
+    }
+
+    fn internal_events(&self) -> BTreeMap<String, u64> {
+        // `repair` (a normalization that had to search), `rebuild` (after a
+        // removal) and `degenerate_rebuild` are not certificate failures:
+        // not counted as events (see `rebuilds`)
+        self.k
+            .counts
+            .iter()
+            .filter(|(k, _)| {
+                !matches!(
+                    **k,
+                    "repair"
+                        | "rebuild"
+                        | "insert_rebuild"
+                        | "degenerate_rebuild"
+                        | "refine_rebuild"
+                        | "local_pop"
+                        | "local_remove"
+                        | "local_repair"
+                        | "merge"
+                        | "stand_in"
+                        | "stand_in_end"
+                )
+            })
+            .map(|(k, v)| (k.to_string(), *v))
+            .collect()
+    }
+
+    fn rebuilds(&self) -> (u64, u64, u64) {
+        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
+        (
+            get("rebuild"),
+            get("degenerate_rebuild"),
+            get("refine_rebuild"),
+        )
+    }
+
+    fn insert_rebuilds(&self) -> u64 {
+        self.k.counts.get("insert_rebuild").copied().unwrap_or(0)
+    }
+
+    fn merges(&self) -> u64 {
+        self.k.counts.get("merge").copied().unwrap_or(0)
+    }
+
+    fn local_removals(&self) -> u64 {
+        self.k.counts.get("local_remove").copied().unwrap_or(0)
+    }
+
+    fn local_repairs(&self) -> u64 {
+        self.k.counts.get("local_repair").copied().unwrap_or(0)
+    }
+
+    fn stand_ins(&self) -> (u64, u64) {
+        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
+        (get("stand_in"), get("stand_in_end"))
+    }
+}
+
+impl KineticEngine {
+    /// [`Engine::next_collisions`] on the structure.
+    fn kinetic_next_collisions(
+        &mut self,
+        world: &World,
+        limit: &Time,
+    ) -> Result<Collisions, RunError> {
+        let mut contacts: Vec<(BodyId, BodyId)> = Vec::new();
+        let mut at: Option<Time> = None;
+        let mut ops_now = 0u64;
+        let mut rebuilt_now = false;
+        // (a cycle of the local operations is repaired once per instant;
+        // the guard below still rebuilds if they cycle again)
+        let mut repaired_cycle_now = false;
+        let mut last: Option<Time> = None;
+        let mut refines: Vec<[Att; 3]> = Vec::new();
+        let mut refine_at: Option<Time> = None;
+        loop {
+            if let Some(rt) = &refine_at {
+                if !self.k.contact_candidate_due(rt) {
+                    let rt = rt.clone();
+                    self.refine(world, &rt, &refines, !contacts.is_empty())?;
+                    refines.clear();
+                    refine_at = None;
+                    if self.audit && contacts.is_empty() && self.settled.is_none() {
+                        self.audit_now(world, &rt)?;
+                    }
+                }
+            }
+            if contacts.is_empty() && refine_at.is_none() && self.unslide_settled(world, false)? {
+                continue;
+            }
+            if let Some(a) = &at {
+                if self.k.next_time() != Some(a) {
+                    break;
+                }
+            }
+            let responded = &self.responded;
+            // the reference's rule for a touching pair: a collision if the
+            // contact begins now, or, after the pair's collision response at
+            // this instant, if they still interpenetrate
+            let collides = |a: BodyId, b: BodyId, t: &Time| -> bool {
+                let Some(r) = t.as_rational() else {
+                    return true;
+                };
+                let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
+                let answered = responded.as_ref().is_some_and(|(rt, pairs, moved)| {
+                    rt == t
+                        && (pairs.contains(&(a.min(b), a.max(b)))
+                            || moved.contains(&a)
+                            || moved.contains(&b))
+                });
+                if answered {
+                    return interval.next_contact(r).as_ref() == Some(r);
+                }
+                match interval {
+                    crate::brute::ContactInterval::During { start: Some(s), .. } => s == *r,
+                    _ => false,
+                }
+            };
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            let stepped = self
+                .k
+                .step(&geo, limit, &contacts, &collides)
+                .map_err(RunError::Internal)?;
+            let touched = self.k.take_settled();
+            if let (
+                false,
+                Step::Internal(t) | Step::Deferred(t) | Step::Contact(t, _) | Step::Refine(t, _),
+            ) = (touched.is_empty(), &stepped)
+            {
+                if self.hierarchical {
+                    let mut pairs = match self.settled.take() {
+                        Some((u, v)) if u == *t => v,
+                        _ => Vec::new(),
+                    };
+                    add_pairs(&mut pairs, touched);
+                    self.settled = Some((t.clone(), pairs));
+                }
+            }
+            match stepped {
+                Step::Idle if refine_at.is_some() => {} // refined at the loop's top
+                Step::Idle if contacts.is_empty() && self.unslide_settled(world, true)? => {}
+                Step::Idle => break,
+                Step::Contact(t, pairs) => {
+                    for (a, b) in pairs {
+                        let pair = (a.min(b), a.max(b));
+                        if !contacts.contains(&pair) && world.pair_active(a, b) {
+                            contacts.push(pair);
+                        }
+                    }
+                    at = Some(t);
+                }
+                Step::Deferred(_) => {}
+                Step::Refine(t, p) => {
+                    // refined once every possible contact at `t` is known
+                    refines.push(p);
+                    refine_at = Some(t);
+                }
+                Step::Internal(t) => {
+                    if last.as_ref() == Some(&t) {
+                        ops_now += 1;
+                        // a cycle: first the alternate normalization rule
+                        // for the rest of the instant, then a repair
+                        if (self.k.cycling(&t) || ops_now > 64 * (world.len() as u64 + 16))
+                            && self.k.alternate_normalization(&t)
+                        {
+                            ops_now = 0;
+                        }
+                        if contacts.is_empty()
+                            && !repaired_cycle_now
+                            && !rebuilt_now
+                            && self.k.cycling(&t)
+                        {
+                            repaired_cycle_now = true;
+                            // the same certificate fails again and again at
+                            // this instant: the region around the polygons
+                            // of the cycle is triangulated for just after it
+                            let geo = Geo {
+                                world,
+                                shapes: &self.shapes,
+                            };
+                            // (a failed repair may have left its region
+                            // half changed: the whole structure is rebuilt)
+                            if !self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)? {
+                                self.k
+                                    .rebuild_after(&geo, &t, "degenerate_rebuild")
+                                    .map_err(RunError::Internal)?;
+                                rebuilt_now = true;
+                            }
+                            ops_now = 0;
+                        }
+                        if ops_now > 64 * (world.len() as u64 + 16) {
+                            // the local operations cycle at a degenerate
+                            // instant: rebuild once for just after it
+                            if rebuilt_now {
+                                return Err(RunError::Internal(format!(
+                                    "no progress: {ops_now} operations at t = {t}"
+                                )));
+                            }
+                            if contacts.is_empty() {
+                                let geo = Geo {
+                                    world,
+                                    shapes: &self.shapes,
+                                };
+                                // the region around the polygons of the
+                                // cycle first (once per instant), else
+                                // everything
+                                let repaired = !repaired_cycle_now
+                                    && self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)?;
+                                repaired_cycle_now = true;
+                                if !repaired {
+                                    self.k
+                                        .rebuild_after(&geo, &t, "degenerate_rebuild")
+                                        .map_err(RunError::Internal)?;
+                                    rebuilt_now = true;
+                                }
+                            } else {
+                                // after the collision response
+                                self.k.give_up_instant();
+                                rebuilt_now = true;
+                            }
+                            ops_now = 0;
+                        }
+                    } else {
+                        ops_now = 0;
+                        rebuilt_now = false;
+                        repaired_cycle_now = false;
+                        last = Some(t.clone());
+                    }
+                    if contacts.is_empty() && refine_at.is_none() {
+                        self.k
+                            .coarsen(world, &mut self.shapes, &t)
+                            .map_err(RunError::Internal)?;
+                    }
+                    if self.audit && contacts.is_empty() && self.settled.is_none() {
+                        self.audit_now(world, &t)?;
+                    }
+                }
+            }
+        }
+        if let Some(t) = &at {
+            let repeats = match &self.contact_instant {
+                Some((u, n)) if u == t => n + 1,
+                _ => 1,
+            };
+            if repeats > 64 {
+                return Err(RunError::Internal(format!(
+                    "no progress: contacts at t = {t} persist after {repeats} collision responses"
+                )));
+            }
+            self.contact_instant = Some((t.clone(), repeats));
+        }
+        Ok(at.map(|t| (t, contacts)))
+    }
+
+    /// [`Engine::insert`] on the structure: the new body's approximation
+    /// (hierarchy) is the coarsest one, popped with the others until every
+    /// two are apart, and the structure is built again, at `now` or, where
+    /// polygons touch then, for just after it (counted as `insert_rebuild`).
+    fn kinetic_insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
+        let r = world_time(now)?;
+        let with_new = |shapes: &Shapes| {
+            let mut shapes = shapes.clone();
+            if self.hierarchical {
+                shapes.per.resize(world.len(), None);
+                shapes.per[b.index()] = refine::coarsest_shape(world.body(b));
+            }
+            shapes
+        };
+        let mut shapes = with_new(&self.shapes);
+        let at_now = !self.hierarchical || refine::separate_all_at(world, &mut shapes, r).is_ok();
+        let built = at_now && {
+            let geo = Geo {
+                world,
+                shapes: &shapes,
+            };
+            self.k.rebuild(&geo, r).is_ok()
+        };
+        if !built {
+            shapes = with_new(&self.shapes);
+            if self.hierarchical {
+                refine::separate_all_strictly_after(world, &mut shapes, now)
+                    .map_err(RunError::Internal)?;
+            }
+            let geo = Geo {
+                world,
+                shapes: &shapes,
+            };
+            self.k
+                .rebuild_after(&geo, now, "insert_rebuild")
+                .map_err(RunError::Internal)?;
+        } else {
+            *self.k.counts.entry("insert_rebuild").or_default() += 1;
+        }
+        self.shapes = shapes;
+        Ok(())
+    }
+
+    /// [`Engine::update`] on the structure.
+    fn kinetic_update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        if bodies.iter().any(|&b| !world.body(b).alive) {
+            let t = world_time(now)?;
+            // one body at a time, in place (the others that go are still
+            // seen as the structure sees them while it is removed)
+            let mut local = true;
+            for &b in bodies {
+                if world.body(b).alive {
+                    continue;
+                }
+                if local {
+                    let geo = Geo {
+                        world,
+                        shapes: &self.shapes,
+                    };
+                    local = self
+                        .k
+                        .remove_body(&geo, b, now)
+                        .map_err(RunError::Internal)?;
+                }
+                if let Some(slot) = self.shapes.per.get_mut(b.index()) {
+                    *slot = None;
+                }
+            }
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            if local {
+                // certificates set aside at this instant are scheduled again
+                let alive: Vec<BodyId> = bodies
+                    .iter()
+                    .copied()
+                    .filter(|&b| world.body(b).alive)
+                    .collect();
+                self.k
+                    .motion_changed(&geo, now, &alive)
+                    .map_err(RunError::Internal)?;
+            } else {
+                // at the instant itself, or, where that fails (other
+                // polygons touch there), for just after it: every contact
+                // of the instant has been reported before the response
+                if let Err(_e) = self.k.rebuild(&geo, t) {
+                    self.k
+                        .rebuild_after(&geo, now, "degenerate_rebuild")
+                        .map_err(|r| RunError::Internal(format!("{_e}; then {r}")))?;
+                }
+                *self.k.counts.entry("rebuild").or_default() += 1;
+            }
+        } else {
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            self.k
+                .motion_changed(&geo, now, bodies)
+                .map_err(RunError::Internal)?;
+            let mut pairs = reported.to_vec();
+            if let Some((t, settled)) = self.settled.take() {
+                if t == *now {
+                    add_pairs(&mut pairs, settled);
+                }
+            }
+            self.refine_responded(world, now, &pairs)?;
+        }
+        Ok(())
+    }
+}
+
+/// Append to `pairs` those of `new` that it does not hold yet, in either
+/// order (collision pairs come in the driver's order, touches as
+/// `(min, max)`).
+fn add_pairs(pairs: &mut Vec<(BodyId, BodyId)>, new: Vec<(BodyId, BodyId)>) {
+    for p in new {
+        if !pairs.contains(&p) && !pairs.contains(&(p.1, p.0)) {
+            pairs.push(p);
+        }
+    }
+}
+
+/// Audit at a rational instant strictly after `now` and before the next event.
+pub(crate) fn audit(
+    world: &World,
+    engine: &dyn Engine,
+    now: &Time,
+    end: &Time,
+) -> Result<(), RunError> {
+    let mut next = end.clone();
+    for t in [engine.next_time(), world.next_change_time().cloned()]
+        .into_iter()
+        .flatten()
+    {
+        if t < next {
+            next = t;
+        }
+    }
+    if *now >= next {
+        // Another event is due at this very instant (audit once it is done),
+        // or the run ends here (nothing after `until` is simulated).
+        return Ok(());
+    }
+    let at = now.rational_between(&next);
+    engine
+        .audit(world, now, &at)
+        .map_err(|e| RunError::Internal(format!("audit failed after t = {now}: {e}")))
+}
