@@ -39,7 +39,9 @@ use kss::sim::{EventKey, EventQueue};
 use kss::world::{BodyId, World};
 use kss::Scenario;
 
-use crate::exact::{Collisions, ExactFinder};
+use kss::{Collisions, Finder, RunError};
+
+use crate::exact::{rational, BUDGET};
 use crate::{Counters, Deadline, Event, Failure};
 
 const NIL: u32 = u32::MAX;
@@ -112,6 +114,8 @@ pub struct Sweep {
     swaps: u64,
     pair_tests: u64,
     max_certs: u64,
+    /// The run gives up once this passes.
+    deadline: Deadline,
 }
 
 fn key(a: BodyId, b: BodyId) -> (BodyId, BodyId) {
@@ -152,6 +156,7 @@ impl Sweep {
             swaps: 0,
             pair_tests: 0,
             max_certs: 0,
+            deadline: Deadline::NONE,
         };
         for i in 0..n as u32 {
             s.set_motion(world, i);
@@ -387,8 +392,11 @@ impl Sweep {
     }
 }
 
-impl ExactFinder for Sweep {
-    fn next_collisions(&mut self, world: &World, limit: &Time) -> Collisions {
+impl Finder for Sweep {
+    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
+        if self.deadline.passed() {
+            return Err(RunError::Aborted(BUDGET.into()));
+        }
         loop {
             let swap_due = match (self.certs.peek(), self.collisions.first()) {
                 (Some((_, ts, _, _)), c) => ts <= limit && c.is_none_or(|(tc, _, _)| ts <= tc),
@@ -401,9 +409,11 @@ impl ExactFinder for Sweep {
                 self.note_certs();
                 continue;
             }
-            let (t0, _, _) = self.collisions.first()?.clone();
+            let Some((t0, _, _)) = self.collisions.first().cloned() else {
+                return Ok(None);
+            };
             if t0 > *limit {
-                return None;
+                return Ok(None);
             }
             let pairs = self
                 .collisions
@@ -411,17 +421,18 @@ impl ExactFinder for Sweep {
                 .take_while(|(t, _, _)| *t == t0)
                 .map(|(_, a, b)| (*a, *b))
                 .collect();
-            return Some((t0, pairs));
+            return Ok(Some((t0, pairs)));
         }
     }
 
     fn update(
         &mut self,
         world: &World,
-        now: &Rational,
+        now: &Time,
         bodies: &[BodyId],
         reported: &[(BodyId, BodyId)],
-    ) {
+    ) -> Result<(), RunError> {
+        let now = rational(now)?;
         for &(a, b) in reported {
             let pair = key(a, b);
             self.reported_at.insert(pair, now.clone());
@@ -461,24 +472,42 @@ impl ExactFinder for Sweep {
             }
         }
         self.note_certs();
+        Ok(())
     }
 
-    fn internal_events(&self) -> u64 {
-        self.swaps
+    fn insert(&mut self, _world: &World, _now: &Time, _b: BodyId) -> Result<(), RunError> {
+        Err(RunError::Aborted(
+            "the sort-and-sweep baseline does not take insertions".into(),
+        ))
     }
 
-    fn certificates_max(&self) -> u64 {
-        self.max_certs
+    fn next_time(&self) -> Option<Time> {
+        let swap = self.certs.peek().map(|(_, t, _, _)| t);
+        let collision = self.collisions.first().map(|(t, _, _)| t);
+        match (swap, collision) {
+            (Some(s), Some(c)) => Some(s.min(c).clone()),
+            (s, c) => s.or(c).cloned(),
+        }
     }
 
-    fn pair_tests(&self) -> u64 {
-        self.pair_tests
+    fn certificates(&self) -> (u64, u64) {
+        (self.certs.len() as u64, self.max_certs)
+    }
+
+    fn internal_events(&self) -> std::collections::BTreeMap<String, u64> {
+        std::collections::BTreeMap::from([("swap".to_string(), self.swaps)])
+    }
+
+    fn work(&self) -> std::collections::BTreeMap<String, u64> {
+        std::collections::BTreeMap::from([("pair_tests".to_string(), self.pair_tests)])
     }
 }
 
 /// Runs the kinetic sort-and-sweep on `scenario`.
 pub fn run(scenario: &Scenario, deadline: Deadline) -> Result<(Vec<Event>, Counters), Failure> {
-    let mut world = World::new(scenario, None).map_err(|e| Failure::Error(e.to_string()))?;
-    let mut sweep = Sweep::new(&world);
-    crate::exact::drive(&mut world, &mut sweep, deadline)
+    crate::exact::run(scenario, &mut |world| {
+        let mut sweep = Sweep::new(world);
+        sweep.deadline = deadline;
+        Box::new(sweep)
+    })
 }

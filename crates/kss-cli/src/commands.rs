@@ -68,7 +68,9 @@ impl CliError {
             e @ RunError::InsertionTouches { .. } => {
                 CliError::new(ErrorKind::Invalid, format!("{source}: {e}"))
             }
-            e @ RunError::Internal(_) => CliError::new(ErrorKind::Internal, e.to_string()),
+            e @ (RunError::Internal(_) | RunError::Aborted(_)) => {
+                CliError::new(ErrorKind::Internal, e.to_string())
+            }
         }
     }
 }

@@ -65,16 +65,27 @@ pub enum RunError {
         /// The insertion time.
         time: f64,
     },
+    /// A collision finder other than the built-in ones gave up (for
+    /// example, a benchmark's time budget ran out).
+    #[error("the collision finder gave up: {0}")]
+    Aborted(String),
     /// A broken invariant: a bug in kss.
     #[error("internal error (a bug in kss, please report it): {0}")]
     Internal(String),
 }
 
 /// The earliest collision instant and the pairs colliding then.
-pub(crate) type Collisions = Option<(Time, Vec<(BodyId, BodyId)>)>;
+pub type Collisions = Option<(Time, Vec<(BodyId, BodyId)>)>;
 
-/// A structure that finds collisions, driven by [`drive`].
-pub(crate) trait Engine {
+/// An exact collision finder that a [`crate::Simulation`] drives: the
+/// built-in structures (brute force, plain, hierarchical) and any other
+/// finder (the benchmark's exact baselines plug in through it, see
+/// [`crate::Simulation::with_finder`]). The simulation owns the [`World`]
+/// (the motions) and calls the finder in time order: `next_collisions`
+/// with a limit at or after every earlier call's, then, at the instant of
+/// the collisions or at the limit, `update` or `insert` for every change
+/// the caller makes there.
+pub trait Finder {
     /// Process internal events up to the earliest collision time at most
     /// `limit`; return that time and every pair colliding then.
     fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError>;
@@ -90,14 +101,16 @@ pub(crate) trait Engine {
     /// The time of the next internal event, if any (for choosing audit instants).
     fn next_time(&self) -> Option<Time>;
     /// Check every invariant at the rational instant `at` (strictly between
-    /// events; `now` is the last event time).
-    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String>;
+    /// events; `now` is the last event time). None by default.
+    fn audit(&self, _world: &World, _now: &Time, _at: &Rational) -> Result<(), String> {
+        Ok(())
+    }
+    /// Work counters by name, for the statistics ([`crate::RunStats::work`]).
+    fn work(&self) -> BTreeMap<String, u64> {
+        BTreeMap::new()
+    }
     /// Body `b` entered the world at `now`; it touches no alive body then.
     fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError>;
-    /// The kinetic engine, if this is one (for pictures of the structure).
-    fn into_kinetic(self: Box<Self>) -> Option<KineticEngine> {
-        None
-    }
     /// Active certificates now and at most.
     fn certificates(&self) -> (u64, u64);
     /// Internal events by kind.
@@ -140,7 +153,7 @@ fn world_time(now: &Time) -> Result<&Rational, RunError> {
 
 struct BruteEngine(Brute);
 
-impl Engine for BruteEngine {
+impl Finder for BruteEngine {
     fn next_collisions(&mut self, _world: &World, limit: &Time) -> Result<Collisions, RunError> {
         Ok(self.0.next_collisions(limit))
     }
@@ -186,11 +199,92 @@ pub(crate) fn make_engine(
     structure: StructureKind,
     audit: bool,
     pair_method: PairMethod,
-) -> Result<Box<dyn Engine>, RunError> {
+) -> Result<Backend, RunError> {
     match structure {
-        StructureKind::Brute => Ok(Box::new(BruteEngine(Brute::new(world, pair_method)))),
-        StructureKind::Plain => Ok(Box::new(KineticEngine::new(world, audit, false)?)),
-        StructureKind::Hierarchical => Ok(Box::new(KineticEngine::new(world, audit, true)?)),
+        StructureKind::Brute => Ok(Backend::Other(Box::new(BruteEngine(Brute::new(
+            world,
+            pair_method,
+        ))))),
+        StructureKind::Plain => Ok(Backend::Kinetic(Box::new(KineticEngine::new(
+            world, audit, false,
+        )?))),
+        StructureKind::Hierarchical => Ok(Backend::Kinetic(Box::new(KineticEngine::new(
+            world, audit, true,
+        )?))),
+    }
+}
+
+/// The finder of a simulation: the kinetic structure (kept by type, for
+/// pictures of it) or any other.
+pub(crate) enum Backend {
+    Kinetic(Box<KineticEngine>),
+    Other(Box<dyn Finder>),
+}
+
+impl Backend {
+    fn get(&self) -> &dyn Finder {
+        match self {
+            Backend::Kinetic(k) => k.as_ref(),
+            Backend::Other(f) => f.as_ref(),
+        }
+    }
+
+    fn get_mut(&mut self) -> &mut dyn Finder {
+        match self {
+            Backend::Kinetic(k) => k.as_mut(),
+            Backend::Other(f) => f.as_mut(),
+        }
+    }
+}
+
+impl Finder for Backend {
+    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
+        self.get_mut().next_collisions(world, limit)
+    }
+    fn update(
+        &mut self,
+        world: &World,
+        now: &Time,
+        bodies: &[BodyId],
+        reported: &[(BodyId, BodyId)],
+    ) -> Result<(), RunError> {
+        self.get_mut().update(world, now, bodies, reported)
+    }
+    fn next_time(&self) -> Option<Time> {
+        self.get().next_time()
+    }
+    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
+        self.get().audit(world, now, at)
+    }
+    fn work(&self) -> BTreeMap<String, u64> {
+        self.get().work()
+    }
+    fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
+        self.get_mut().insert(world, now, b)
+    }
+    fn certificates(&self) -> (u64, u64) {
+        self.get().certificates()
+    }
+    fn internal_events(&self) -> BTreeMap<String, u64> {
+        self.get().internal_events()
+    }
+    fn rebuilds(&self) -> (u64, u64, u64) {
+        self.get().rebuilds()
+    }
+    fn insert_rebuilds(&self) -> u64 {
+        self.get().insert_rebuilds()
+    }
+    fn merges(&self) -> u64 {
+        self.get().merges()
+    }
+    fn local_removals(&self) -> u64 {
+        self.get().local_removals()
+    }
+    fn local_repairs(&self) -> u64 {
+        self.get().local_repairs()
+    }
+    fn stand_ins(&self) -> (u64, u64) {
+        self.get().stand_ins()
     }
 }
 
@@ -217,7 +311,7 @@ pub(crate) struct KineticEngine {
     responded: Option<Responded>,
     /// Approximations (`hierarchical`) or the polygons themselves (`plain`).
     hierarchical: bool,
-    /// The instant of the latest [`Engine::update`] (0 before the first).
+    /// The instant of the latest [`Finder::update`] (0 before the first).
     last_update: Rational,
     /// The reference, standing in while polygons rest in contact (see
     /// [`KineticEngine::stand_in`]).
@@ -726,7 +820,7 @@ impl KineticEngine {
     }
 }
 
-impl Engine for KineticEngine {
+impl Finder for KineticEngine {
     fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
         if let Some(s) = &mut self.stand_in {
             return s.brute.next_collisions(world, limit);
@@ -805,10 +899,6 @@ impl Engine for KineticEngine {
         }
     }
 
-    fn into_kinetic(self: Box<Self>) -> Option<KineticEngine> {
-        Some(*self)
-    }
-
     fn certificates(&self) -> (u64, u64) {
         let (now, max) = self.k.active();
         // the reference's queued pair times stand in for certificates
@@ -881,7 +971,7 @@ impl Engine for KineticEngine {
 }
 
 impl KineticEngine {
-    /// [`Engine::next_collisions`] on the structure.
+    /// [`Finder::next_collisions`] on the structure.
     fn kinetic_next_collisions(
         &mut self,
         world: &World,
@@ -1079,7 +1169,7 @@ impl KineticEngine {
         Ok(at.map(|t| (t, contacts)))
     }
 
-    /// [`Engine::insert`] on the structure: the new body's approximation
+    /// [`Finder::insert`] on the structure: the new body's approximation
     /// (hierarchy) is the coarsest one, popped with the others until every
     /// two are apart, and the structure is built again, at `now` or, where
     /// polygons touch then, for just after it (counted as `insert_rebuild`).
@@ -1122,7 +1212,7 @@ impl KineticEngine {
         Ok(())
     }
 
-    /// [`Engine::update`] on the structure.
+    /// [`Finder::update`] on the structure.
     fn kinetic_update(
         &mut self,
         world: &World,
@@ -1212,7 +1302,7 @@ fn add_pairs(pairs: &mut Vec<(BodyId, BodyId)>, new: Vec<(BodyId, BodyId)>) {
 /// Audit at a rational instant strictly after `now` and before the next event.
 pub(crate) fn audit(
     world: &World,
-    engine: &dyn Engine,
+    engine: &dyn Finder,
     now: &Time,
     end: &Time,
 ) -> Result<(), RunError> {

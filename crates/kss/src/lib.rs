@@ -99,8 +99,10 @@ pub mod simulation;
 pub mod structure;
 pub mod world;
 
-pub use runner::{run, CollisionEvent, RunError, RunOptions, RunStats, StructureKind};
+pub use runner::{
+    run, run_with_finder, CollisionEvent, RunError, RunOptions, RunStats, StructureKind,
+};
 pub use scenario::{
     CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, Scenario, ScenarioError,
 };
-pub use simulation::{SimError, SimOptions, Simulation};
+pub use simulation::{Collisions, Finder, SimError, SimOptions, Simulation};

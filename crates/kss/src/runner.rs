@@ -8,7 +8,7 @@ use crate::brute::PairMethod;
 pub use crate::engine::{RunError, StructureKind};
 use crate::num::{Rational, Time};
 use crate::scenario::{CollisionMode, PolygonSpec, Scenario};
-use crate::simulation::{SimError, SimOptions, Simulation};
+use crate::simulation::{Finder, SimError, SimOptions, Simulation};
 use crate::structure::engine::Kinetic;
 use crate::structure::geo::{Geo, Shapes};
 use crate::world::World;
@@ -120,6 +120,28 @@ pub fn run(
 ) -> Result<RunStats, RunError> {
     let start = std::time::Instant::now();
     let mut sim = simulation(scenario, options, options.structure)?;
+    let build_seconds = start.elapsed().as_secs_f64();
+    drive(scenario, &mut sim, None, on_event)?;
+    let mut stats = sim.stats();
+    stats.build_seconds = build_seconds;
+    Ok(stats)
+}
+
+/// [`run`] with a collision finder of the caller's (built by `make` from
+/// the world at time 0) instead of a built-in structure: the same loop, the
+/// same responses, the same statistics (the finder's own in
+/// [`RunStats::work`]). For comparing other exact finders with kss.
+pub fn run_with_finder(
+    scenario: &Scenario,
+    options: &RunOptions,
+    make: &mut dyn FnMut(&World) -> Box<dyn Finder>,
+    on_event: &mut dyn FnMut(&CollisionEvent),
+) -> Result<RunStats, RunError> {
+    let start = std::time::Instant::now();
+    let mut world = World::new(scenario, options.until)?;
+    world.take_plan();
+    let finder = make(&world);
+    let mut sim = Simulation::with_finder(world, finder, options.audit)?;
     let build_seconds = start.elapsed().as_secs_f64();
     drive(scenario, &mut sim, None, on_event)?;
     let mut stats = sim.stats();
@@ -390,6 +412,7 @@ impl From<SimError> for RunError {
                 time,
             },
             SimError::Internal(e) => RunError::Internal(e),
+            SimError::Aborted(e) => RunError::Aborted(e),
             other => RunError::Internal(other.to_string()),
         }
     }

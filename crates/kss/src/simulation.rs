@@ -31,7 +31,8 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::brute::PairMethod;
-use crate::engine::{audit, make_engine, Engine, KineticEngine, RunError, StructureKind};
+use crate::engine::{audit, make_engine, Backend, KineticEngine, RunError, StructureKind};
+pub use crate::engine::{Collisions, Finder};
 use crate::geom::Point;
 use crate::num::{Rational, Time};
 use crate::runner::{CollisionEvent, RunStats};
@@ -105,6 +106,10 @@ pub enum SimError {
         /// The pair's second polygon.
         b: String,
     },
+    /// A collision finder other than the built-in ones gave up
+    /// ([`Simulation::with_finder`]); the simulation cannot go on.
+    #[error("the collision finder gave up: {0}")]
+    Aborted(String),
     /// A bug in kss; the simulation cannot go on.
     #[error("internal error (a bug in kss, please report it): {0}")]
     Internal(String),
@@ -114,6 +119,7 @@ impl From<RunError> for SimError {
     fn from(e: RunError) -> SimError {
         match e {
             RunError::Invalid(e) => SimError::Invalid(e),
+            RunError::Aborted(e) => SimError::Aborted(e),
             other => SimError::Internal(other.to_string()),
         }
     }
@@ -123,7 +129,7 @@ impl From<RunError> for SimError {
 /// by the caller (module docs).
 pub struct Simulation {
     world: World,
-    engine: Box<dyn Engine>,
+    engine: Backend,
     structure: StructureKind,
     audit: bool,
     now: Time,
@@ -145,6 +151,8 @@ pub struct Simulation {
     build_seconds: f64,
     /// Set once an internal error happened: every later call fails.
     broken: Option<String>,
+    /// The finder is not a built-in structure ([`Simulation::with_finder`]).
+    custom: bool,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -183,6 +191,44 @@ impl Simulation {
             options.audit,
             options.pair_method,
         )?;
+        Simulation::assemble(world, engine, options, start, counters_before)
+    }
+
+    /// A simulation of `world` (at time 0, as [`World::new`] builds it from a
+    /// scenario; the scenario's flight-plan changes are the world's own, and
+    /// applied as the simulation advances) whose collisions `finder`
+    /// finds, for comparing other exact finders with the built-in
+    /// structures on the same loop. `audit` runs the finder's
+    /// [`Finder::audit`] after every step. The statistics name the
+    /// structure `"custom"`.
+    pub fn with_finder(
+        world: World,
+        finder: Box<dyn Finder>,
+        audit: bool,
+    ) -> Result<Simulation, SimError> {
+        let options = SimOptions {
+            audit,
+            ..SimOptions::default()
+        };
+        let counters_before = crate::structure::counters::snapshot().to_vec();
+        let mut sim = Simulation::assemble(
+            world,
+            Backend::Other(finder),
+            &options,
+            std::time::Instant::now(),
+            counters_before,
+        )?;
+        sim.custom = true;
+        Ok(sim)
+    }
+
+    fn assemble(
+        world: World,
+        engine: Backend,
+        options: &SimOptions,
+        start: std::time::Instant,
+        counters_before: Vec<u64>,
+    ) -> Result<Simulation, SimError> {
         let ids = world
             .bodies()
             .iter()
@@ -211,6 +257,7 @@ impl Simulation {
             counters_before,
             build_seconds: start.elapsed().as_secs_f64(),
             broken: None,
+            custom: false,
         };
         sim.audit_if()?;
         Ok(sim)
@@ -258,7 +305,11 @@ impl Simulation {
     /// time of the events).
     pub fn stats(&self) -> RunStats {
         let mut stats = RunStats {
-            structure: self.structure.name(),
+            structure: if self.custom {
+                "custom"
+            } else {
+                self.structure.name()
+            },
             polygons: self.world.len(),
             vertices: self.world.bodies().iter().map(|b| b.shape.len()).sum(),
             ..RunStats::default()
@@ -284,7 +335,9 @@ impl Simulation {
         stats.collisions = self.collisions;
         stats.max_number_bits = self.max_bits;
         stats.build_seconds = self.build_seconds;
-        if self.structure != StructureKind::Brute {
+        if self.custom {
+            stats.work = self.engine.work();
+        } else if self.structure != StructureKind::Brute {
             let after = crate::structure::counters::snapshot();
             stats.work = crate::structure::counters::NAMES
                 .iter()
@@ -527,13 +580,7 @@ impl Simulation {
     /// instant after now and before the next event.
     pub fn audit(&self) -> Result<(), SimError> {
         self.check()?;
-        audit(
-            &self.world,
-            self.engine.as_ref(),
-            &self.now,
-            self.world.until(),
-        )
-        .map_err(SimError::from)
+        audit(&self.world, &self.engine, &self.now, self.world.until()).map_err(SimError::from)
     }
 
     /// The world (for pictures and tests inside the crate).
@@ -543,7 +590,10 @@ impl Simulation {
 
     /// The kinetic engine, if the structure is one (for pictures).
     pub(crate) fn into_kinetic(self) -> (World, Option<KineticEngine>) {
-        (self.world, self.engine.into_kinetic())
+        match self.engine {
+            Backend::Kinetic(k) => (self.world, Some(*k)),
+            Backend::Other(_) => (self.world, None),
+        }
     }
 
     /// The pairs of `collisions`, each of which must have been returned at
@@ -600,12 +650,7 @@ impl Simulation {
 
     fn audit_if(&self) -> Result<(), RunError> {
         if self.audit {
-            audit(
-                &self.world,
-                self.engine.as_ref(),
-                &self.now,
-                self.world.until(),
-            )?;
+            audit(&self.world, &self.engine, &self.now, self.world.until())?;
         }
         Ok(())
     }
