@@ -152,6 +152,7 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "insert_rebuilds": stats.insert_rebuilds,
         "merges": stats.merges,
         "local_removals": stats.local_removals,
+        "local_insertions": stats.local_insertions,
         "local_repairs": stats.local_repairs,
         "stand_ins": stats.stand_ins,
         "stand_in_ends": stats.stand_in_ends,

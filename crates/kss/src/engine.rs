@@ -124,6 +124,10 @@ pub trait Finder {
     fn insert_rebuilds(&self) -> u64 {
         0
     }
+    /// Polygons inserted in place.
+    fn local_insertions(&self) -> u64 {
+        0
+    }
     /// Approximation vertices merged away (coarsening).
     fn merges(&self) -> u64 {
         0
@@ -273,6 +277,9 @@ impl Finder for Backend {
     }
     fn insert_rebuilds(&self) -> u64 {
         self.get().insert_rebuilds()
+    }
+    fn local_insertions(&self) -> u64 {
+        self.get().local_insertions()
     }
     fn merges(&self) -> u64 {
         self.get().merges()
@@ -929,6 +936,7 @@ impl Finder for KineticEngine {
                         | "refine_rebuild"
                         | "local_pop"
                         | "local_remove"
+                        | "local_insert"
                         | "local_repair"
                         | "merge"
                         | "stand_in"
@@ -950,6 +958,10 @@ impl Finder for KineticEngine {
 
     fn insert_rebuilds(&self) -> u64 {
         self.k.counts.get("insert_rebuild").copied().unwrap_or(0)
+    }
+
+    fn local_insertions(&self) -> u64 {
+        self.k.counts.get("local_insert").copied().unwrap_or(0)
     }
 
     fn merges(&self) -> u64 {
@@ -1170,44 +1182,74 @@ impl KineticEngine {
     }
 
     /// [`Finder::insert`] on the structure: the new body's approximation
-    /// (hierarchy) is the coarsest one, popped with the others until every
-    /// two are apart, and the structure is built again, at `now` or, where
-    /// polygons touch then, for just after it (counted as `insert_rebuild`).
+    /// (hierarchy) is the coarsest one, popped (with those of the bodies
+    /// near it, in place in the structure) until it is apart from every
+    /// other; then the region around the body nearest to it is
+    /// triangulated again with it ([`Kinetic::insert_body`], counted as
+    /// `local_insert`). Where that does not work, the structure is built
+    /// again, at `now` or, where polygons touch then, for just after it
+    /// (counted as `insert_rebuild`).
     fn kinetic_insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
         let r = world_time(now)?;
+        if self.hierarchical {
+            self.shapes.per.resize(world.len(), None);
+            self.shapes.per[b.index()] = refine::coarsest_shape(world.body(b));
+        }
+        let mut local = true;
+        if self.hierarchical {
+            let mut pops_in = LocalPops::new(&mut self.k, world, now);
+            let mut popper = |shapes: &mut Shapes, a: Att| {
+                if a.obj == Obj::Body(b) {
+                    Ok(refine::pop(shapes, a))
+                } else {
+                    pops_in.pop(shapes, a)
+                }
+            };
+            let pops = refine::separate_new(world, &mut self.shapes, b, r, &mut popper);
+            local = pops_in.local;
+            match pops {
+                Ok(n) if n > 0 => *self.k.counts.entry("pop").or_default() += n,
+                Ok(_) => {}
+                Err(_) => local = false,
+            }
+        }
+        if local {
+            let geo = Geo {
+                world,
+                shapes: &self.shapes,
+            };
+            if self
+                .k
+                .insert_body(&geo, b, now)
+                .map_err(RunError::Internal)?
+            {
+                return Ok(());
+            }
+        }
         let with_new = |shapes: &Shapes| {
             let mut shapes = shapes.clone();
             if self.hierarchical {
-                shapes.per.resize(world.len(), None);
                 shapes.per[b.index()] = refine::coarsest_shape(world.body(b));
             }
             shapes
         };
+        // for just after `now` (polygons may touch at `now`, after a
+        // collision response); where two stay in contact no structure
+        // exists, and the reference stands in (see `stand_in`)
         let mut shapes = with_new(&self.shapes);
-        let at_now = !self.hierarchical || refine::separate_all_at(world, &mut shapes, r).is_ok();
-        let built = at_now && {
-            let geo = Geo {
-                world,
-                shapes: &shapes,
-            };
-            self.k.rebuild(&geo, r).is_ok()
-        };
-        if !built {
-            shapes = with_new(&self.shapes);
-            if self.hierarchical {
-                refine::separate_all_strictly_after(world, &mut shapes, now)
-                    .map_err(RunError::Internal)?;
+        if self.hierarchical {
+            if let Err(e) = refine::separate_all_strictly_after(world, &mut shapes, now) {
+                self.k.unbuildable = Some(now.clone());
+                return Err(RunError::Internal(e));
             }
-            let geo = Geo {
-                world,
-                shapes: &shapes,
-            };
-            self.k
-                .rebuild_after(&geo, now, "insert_rebuild")
-                .map_err(RunError::Internal)?;
-        } else {
-            *self.k.counts.entry("insert_rebuild").or_default() += 1;
         }
+        let geo = Geo {
+            world,
+            shapes: &shapes,
+        };
+        self.k
+            .rebuild_after(&geo, now, "insert_rebuild")
+            .map_err(RunError::Internal)?;
         self.shapes = shapes;
         Ok(())
     }

@@ -84,6 +84,9 @@ pub struct RunStats {
     /// (coarsening; 0 for `plain` and `brute`). Not certificate failures,
     /// so not counted in `events_processed`.
     pub merges: u64,
+    /// Polygons inserted in place during the run, without a rebuild (0
+    /// for `brute`).
+    pub local_insertions: u64,
     /// Polygons removed in place (`remove` mode), without a rebuild (0 for
     /// `brute`).
     pub local_removals: u64,

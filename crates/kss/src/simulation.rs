@@ -328,6 +328,7 @@ impl Simulation {
             stats.refine_rebuilds,
         ) = self.engine.rebuilds();
         stats.insert_rebuilds = self.engine.insert_rebuilds();
+        stats.local_insertions = self.engine.local_insertions();
         stats.merges = self.engine.merges();
         stats.local_removals = self.engine.local_removals();
         stats.local_repairs = self.engine.local_repairs();

@@ -359,6 +359,48 @@ fn grow_sets(
     }
 }
 
+/// Whether the new partition triangles of `plan`, made for the instant
+/// `at`, hold from just after `now` to `at` (or stay flat while two of
+/// their corners rest on each other).
+fn plan_holds(world: &Geo, plan: &super::remove::RemovalPlan, now: &Time, at: &Time) -> bool {
+    plan.new_triangles().iter().all(|c| {
+        if c.iter().any(|a| a.is_omega()) {
+            return true;
+        }
+        let [x, y, z] = c.map(|a| world.point(a));
+        let q = crate::motion::orient_poly(&x, &y, &z);
+        (q.is_zero() && super::faces::flat_while_resting(world, *c))
+            || (q.sign_after(now) == Sign::Positive
+                && q.first_failure_after(now).is_none_or(|x| x > *at))
+    })
+}
+
+/// The alive body other than `b` whose bounding box is nearest to `b`'s at
+/// `now` (doubles: a starting point for [`Kinetic::insert_body`], which
+/// checks everything exactly).
+fn nearest_body(world: &Geo, b: BodyId, now: &Time) -> Option<BodyId> {
+    let t = now.to_f64();
+    let bounds = |c: BodyId| {
+        let body = world.body(c);
+        let (o, v) = (body.traj.origin().to_f64(), body.traj.velocity().to_f64());
+        let p = [o[0] + v[0] * t, o[1] + v[1] * t];
+        let bx = body.shape.bounds();
+        [bx[0] + p[0], bx[1] + p[0], bx[2] + p[1], bx[3] + p[1]]
+    };
+    let nb = bounds(b);
+    let gap = |o: [f64; 4]| {
+        let dx = (o[0] - nb[1]).max(nb[0] - o[1]).max(0.0);
+        let dy = (o[2] - nb[3]).max(nb[2] - o[3]).max(0.0);
+        dx * dx + dy * dy
+    };
+    (0..world.bodies().len() as u32)
+        .map(BodyId)
+        .filter(|&c| c != b && world.body(c).alive)
+        .map(|c| (gap(bounds(c)), c))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, c)| c)
+}
+
 /// How many handled certificates [`Kinetic::repair_cycle`] looks back at.
 const RECENT: usize = 8;
 
@@ -1294,18 +1336,7 @@ impl Kinetic {
                     }
                 };
                 // the new triangles must hold from just after `now` to `at`
-                let holds = plan.new_triangles().iter().all(|c| {
-                    if c.iter().any(|a| a.is_omega()) {
-                        return true;
-                    }
-                    let [x, y, z] = c.map(|a| world.point(a));
-                    let q = crate::motion::orient_poly(&x, &y, &z);
-                    // (or flat while two corners rest on each other)
-                    (q.is_zero() && super::faces::flat_while_resting(world, *c))
-                        || (q.sign_after(now) == Sign::Positive
-                            && q.first_failure_after(now).is_none_or(|x| x > at_t))
-                });
-                if !holds {
+                if !plan_holds(world, &plan, now, &at_t) {
                     trace!(
                         "repair around {set:?} at {}: a triangle fails before",
                         at_t.to_f64()
@@ -1336,6 +1367,76 @@ impl Kinetic {
                 *self.counts.entry("local_repair").or_default() += 1;
                 return Ok(true);
             }
+        }
+        Ok(false)
+    }
+
+    /// Insert body `b` into the structure at `now`: `b` is alive in `world`
+    /// (seen through its shapes), touches no other body, and is not in the
+    /// structure yet. The region around the body nearest to it (its
+    /// partition triangles and corridors) is triangulated again with `b`
+    /// in it ([`Kss::insertion_plan`]), for an instant just after `now` at
+    /// which the new partition triangles hold from `now` on and the new
+    /// corridors decompose; where `b` does not lie in that region (or
+    /// crosses its boundary), the set grows by the neighbours of its
+    /// bodies, a few rounds at most. Counted as `local_insert`. The cost is
+    /// the region's size (and a scan of the bodies for the nearest and of
+    /// the structure for neighbours), not a new triangulation of
+    /// everything. `false` when no region works: the structure is then
+    /// unchanged, or half changed if the splice failed (the caller
+    /// rebuilds it either way).
+    pub fn insert_body(&mut self, world: &Geo, b: BodyId, now: &Time) -> Result<bool, String> {
+        if self.broken.is_some() || self.kss.tris.is_empty() {
+            return Ok(false);
+        }
+        let Some(first) = nearest_body(world, b, now) else {
+            return Ok(false);
+        };
+        let mut set = vec![b, first];
+        let hi = self.search_start(now)?;
+        for _round in 0..4 {
+            let mut hi_b = hi.clone();
+            let mut more: Vec<BodyId> = Vec::new();
+            for _ in 0..12 {
+                let at = now.rational_between(&hi_b);
+                let at_t = Time::from_rational(at.clone());
+                let plan = match self.kss.insertion_plan(world, &set, &at) {
+                    Ok(plan) => plan,
+                    Err(e) => {
+                        trace!("insertion of {b:?} with {set:?}: {e}");
+                        more = e.grow;
+                        break;
+                    }
+                };
+                if !plan_holds(world, &plan, now, &at_t) {
+                    hi_b = at_t;
+                    continue;
+                }
+                if let Err(pair) = self.kss.retriangulation_decomposes(world, &plan, &set, now) {
+                    trace!("insertion of {b:?} with {set:?}: {pair:?} does not decompose");
+                    more = pair
+                        .iter()
+                        .filter_map(|o| match *o {
+                            Obj::Body(c) => Some(c),
+                            Obj::Omega => None,
+                        })
+                        .collect();
+                    break;
+                }
+                if !self.splice(world, plan, b, false, now)? {
+                    return Ok(false);
+                }
+                *self.counts.entry("local_insert").or_default() += 1;
+                return Ok(true);
+            }
+            more.retain(|c| !set.contains(c));
+            if more.is_empty() {
+                more = self.kss.neighbours(&set);
+            }
+            if more.is_empty() {
+                return Ok(false);
+            }
+            set.extend(more);
         }
         Ok(false)
     }
@@ -1381,13 +1482,13 @@ impl Kinetic {
             self.rename(&mine, Owner::Tri(src), Owner::Tri(dst));
             self.owned_tri[dst.0 as usize] = mine;
         }
-        self.owned_tri.truncate(self.kss.tris.len());
+        self.owned_tri.resize(self.kss.tris.len(), Vec::new());
         for &(src, dst) in &spliced.moved_corrs {
             let mine = std::mem::take(&mut self.owned_corr[src.0 as usize]);
             self.rename(&mine, Owner::Corr(src), Owner::Corr(dst));
             self.owned_corr[dst.0 as usize] = mine;
         }
-        self.owned_corr.truncate(self.kss.corrs.len());
+        self.owned_corr.resize(self.kss.corrs.len(), Vec::new());
         self.last_touched.clear();
         for &k in &spliced.corrs {
             self.kss.place_middle_bridge(world, k, now);

@@ -286,6 +286,79 @@ fn separate_all(
     Ok(pops)
 }
 
+/// Pop the approximations of the new body `b` and of the bodies near it
+/// until `b`'s is apart (closed sets disjoint) at `t` from every other
+/// whose box meets its own; the number of pops. Each pop goes through
+/// `popper`. The boxes are f64 enclosures of the approximation vertices
+/// (`O(N)` doubles; the tests on the candidates are exact).
+pub fn separate_new(
+    world: &World,
+    shapes: &mut Shapes,
+    b: BodyId,
+    t: &Rational,
+    popper: Popper,
+) -> Result<u64, String> {
+    let ti = t.interval();
+    let boxes = |shapes: &Shapes| -> Vec<Option<[f64; 4]>> {
+        let geo = Geo { world, shapes };
+        world
+            .bodies()
+            .iter()
+            .enumerate()
+            .map(|(i, body)| {
+                let id = BodyId(i as u32);
+                if !body.alive {
+                    return None;
+                }
+                let mut bx = [
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NEG_INFINITY,
+                ];
+                for v in geo.ids(id) {
+                    let [x, y] = geo.enclose(Att::vertex(id, v), ti)?;
+                    bx = [
+                        bx[0].min(x.lo),
+                        bx[1].min(y.lo),
+                        bx[2].max(x.hi),
+                        bx[3].max(y.hi),
+                    ];
+                }
+                Some(bx)
+            })
+            .collect()
+    };
+    let all = boxes(shapes);
+    let Some(nb) = all.get(b.index()).copied().flatten() else {
+        return Err("the new body has no box".into());
+    };
+    let near: Vec<BodyId> = (0..all.len())
+        .filter(|&i| i != b.index())
+        .filter(|&i| {
+            // (no enclosure: tested exactly)
+            all[i].is_none_or(|o| o[0] <= nb[2] && nb[0] <= o[2] && o[1] <= nb[3] && nb[1] <= o[3])
+                && world.bodies()[i].alive
+        })
+        .map(|i| BodyId(i as u32))
+        .collect();
+    let mut pops = 0;
+    for c in near {
+        pops += separate(
+            world,
+            shapes,
+            (b, c),
+            &|geo, u, v, w| {
+                let p = |x: Att| geo.position(x, t).expect("a finite point");
+                orient(&p(u), &p(v), &p(w))
+            },
+            None,
+            popper,
+        )?;
+    }
+    Ok(pops)
+}
+
 /// Pop every approximation vertex of every body once (one level finer
 /// everywhere); the number of pops.
 pub fn pop_every_level(world: &World, shapes: &mut Shapes) -> u64 {

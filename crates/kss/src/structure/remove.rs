@@ -125,6 +125,17 @@ pub struct Spliced {
 /// walk enters it at its end `s` (else at `t`).
 type Portal = (CorrId, bool);
 
+/// What a region plan is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Region {
+    /// Remove the one body of the set.
+    Remove,
+    /// Triangulate the region again, the set's bodies kept.
+    Keep,
+    /// Add the set's first body, not yet in the structure.
+    Insert,
+}
+
 impl Kss {
     /// Plan the removal of body `p` at time `t` (module docs). `world` must
     /// still see every other body as the structure does; `p`'s own
@@ -135,7 +146,7 @@ impl Kss {
         if alive < 2 {
             return Err(format!("{alive} bodies stay"));
         }
-        self.region_plan(world, &[p], t, false)
+        self.region_plan(world, &[p], t, Region::Remove)
             .map_err(|e| e.reason)
     }
 
@@ -157,7 +168,48 @@ impl Kss {
         set: &[BodyId],
         at: &Rational,
     ) -> Result<RemovalPlan, PlanError> {
-        self.region_plan(world, set, at, true)
+        self.region_plan(world, set, at, Region::Keep)
+    }
+
+    /// Plan the *insertion* of body `set[0]`, alive in `world` but not yet
+    /// in the structure, into the region around the other bodies of `set`
+    /// ([`Kss::retriangulation_plan`] with the new body among the kept
+    /// ones): the region must contain it, and the plan has two partition
+    /// triangles and three corridors more than the region had (a body more
+    /// in a triangulation of the bodies and `ω`). An error names the
+    /// bodies to grow the set by where it knows them (a boundary bridge
+    /// that the new body crosses).
+    pub fn insertion_plan(
+        &self,
+        world: &Geo,
+        set: &[BodyId],
+        at: &Rational,
+    ) -> Result<RemovalPlan, PlanError> {
+        self.region_plan(world, set, at, Region::Insert)
+    }
+
+    /// The bodies that share a partition triangle or a corridor with a body
+    /// of `set`, not in it (sorted). O(size of the structure).
+    pub fn neighbours(&self, set: &[BodyId]) -> Vec<BodyId> {
+        let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
+        let mut out: Vec<BodyId> = Vec::new();
+        let mut add = |objs: &[Obj]| {
+            if objs.iter().any(|&o| in_set(o)) {
+                out.extend(objs.iter().filter_map(|&o| match o {
+                    Obj::Body(b) if !set.contains(&b) => Some(b),
+                    _ => None,
+                }));
+            }
+        };
+        for t in &self.tris {
+            add(&t.c.map(|c| c.obj));
+        }
+        for c in &self.corrs {
+            add(&[c.a, c.b]);
+        }
+        out.sort();
+        out.dedup();
+        out
     }
 
     /// The doubles `approx` of the region's vertices `atts` at time `t`,
@@ -194,16 +246,16 @@ impl Kss {
             .collect()
     }
 
-    /// [`Kss::removal_plan`] (`set == [p]`, `keep == false`) or
-    /// [`Kss::retriangulation_plan`] (`keep == true`) at the rational
-    /// instant `t`.
+    /// [`Kss::removal_plan`], [`Kss::retriangulation_plan`] or
+    /// [`Kss::insertion_plan`] (by `region`) at the rational instant `t`.
     fn region_plan(
         &self,
         world: &Geo,
         set: &[BodyId],
         t: &Rational,
-        keep: bool,
+        region: Region,
     ) -> Result<RemovalPlan, PlanError> {
+        let keep = region != Region::Remove;
         let ti = t.interval();
         let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
         let dead_tris: Vec<TriId> = (0..self.tris.len())
@@ -483,8 +535,15 @@ impl Kss {
         if dead_corrs.len() != star.len() + merged.len() {
             return Err("a corridor both on the body and beyond a bridge".into());
         }
-        let (gone_tris, gone_corrs) = if keep { (0, 0) } else { (2, 3) };
-        if new_tris.len() + gone_tris != dead_tris.len() || dead_corrs.len() < gone_corrs {
+        // (signed: an insertion adds two triangles and three corridors)
+        let (gone_tris, gone_corrs): (isize, isize) = match region {
+            Region::Remove => (2, 3),
+            Region::Keep => (0, 0),
+            Region::Insert => (-2, -3),
+        };
+        if new_tris.len() as isize + gone_tris != dead_tris.len() as isize
+            || (dead_corrs.len() as isize) < gone_corrs
+        {
             return Err(format!(
                 "{} new triangles for {} removed",
                 new_tris.len(),
@@ -596,7 +655,7 @@ impl Kss {
         if used.len() != merged.len() {
             return Err("a corridor beyond a bridge was not merged".into());
         }
-        if new_corrs.len() + gone_corrs != dead_corrs.len() {
+        if new_corrs.len() as isize + gone_corrs != dead_corrs.len() as isize {
             return Err(format!(
                 "{} new corridors for {} removed",
                 new_corrs.len(),
@@ -645,11 +704,11 @@ impl Kss {
         set: &[BodyId],
         now: &Time,
     ) -> Result<(), [Obj; 2]> {
-        debug_assert_eq!(
-            plan.new_tris.len(),
-            plan.dead_tris.len(),
-            "a retriangulation plan"
+        debug_assert!(
+            plan.new_tris.len() >= plan.dead_tris.len(),
+            "a retriangulation or an insertion plan"
         );
+        let (tris0, corrs0) = (self.tris.len(), self.corrs.len());
         let tris: Vec<(TriId, PartitionTriangle)> = (plan.dead_tris.iter().copied())
             .chain(plan.far.iter().map(|&(t, _, _)| t))
             .map(|t| (t, self.tris[t.0 as usize].clone()))
@@ -685,6 +744,12 @@ impl Kss {
             let c = &self.corrs[k.0 as usize];
             (!ok).then_some([c.a, c.b])
         });
+        // (an insertion's extra slots go)
+        for k in corrs0..self.corrs.len() {
+            self.held.remove(&CorrId(k as u32));
+        }
+        self.tris.truncate(tris0);
+        self.corrs.truncate(corrs0);
         for (t, tri) in tris {
             self.tris[t.0 as usize] = tri;
         }
@@ -706,22 +771,38 @@ impl Kss {
     /// corridors, and the last triangles and corridors move into the slots
     /// left over (every reference to them follows).
     pub fn apply_removal(&mut self, plan: RemovalPlan) -> Spliced {
-        let tri_id = |ti: usize| plan.dead_tris[ti];
-        let corr_id = |j: usize| plan.dead_corrs[j];
+        // (an insertion has more new triangles and corridors than freed
+        // slots: the others go at the end)
+        let (tris0, corrs0) = (self.tris.len(), self.corrs.len());
+        let (dt, dc) = (plan.dead_tris.len(), plan.dead_corrs.len());
+        let tri_id = |ti: usize| match plan.dead_tris.get(ti) {
+            Some(&t) => t,
+            None => TriId((tris0 + ti - dt) as u32),
+        };
+        let corr_id = |j: usize| match plan.dead_corrs.get(j) {
+            Some(&k) => k,
+            None => CorrId((corrs0 + j - dc) as u32),
+        };
         let end = |e: End| match e {
             End::New(ti, i) => (tri_id(ti), i),
             End::Old(tri, i) => (tri, i),
         };
         for (ti, c) in plan.new_tris.iter().enumerate() {
-            self.tris[tri_id(ti).0 as usize] = PartitionTriangle {
+            let tri = PartitionTriangle {
                 c: *c,
                 corr: plan.new_tri_corr[ti].map(corr_id),
             };
+            let slot = tri_id(ti).0 as usize;
+            if slot == self.tris.len() {
+                self.tris.push(tri);
+            } else {
+                self.tris[slot] = tri;
+            }
         }
         for (j, c) in plan.new_corrs.iter().enumerate() {
             let k = corr_id(j);
             self.held.remove(&k);
-            self.corrs[k.0 as usize] = Corridor {
+            let corr = Corridor {
                 a: c.a,
                 b: c.b,
                 s: end(c.s),
@@ -730,6 +811,11 @@ impl Kss {
                 len_b: c.len_b,
                 mid: None,
             };
+            if k.0 as usize == self.corrs.len() {
+                self.corrs.push(corr);
+            } else {
+                self.corrs[k.0 as usize] = corr;
+            }
         }
         for &(tri, i, j) in &plan.far {
             self.tris[tri.0 as usize].corr[i as usize] = corr_id(j);
@@ -740,7 +826,10 @@ impl Kss {
             ..Default::default()
         };
         // the freed triangle slots left over are filled from the end
-        let free: Vec<u32> = plan.dead_tris[plan.new_tris.len()..]
+        let free: Vec<u32> = plan
+            .dead_tris
+            .get(plan.new_tris.len()..)
+            .unwrap_or_default()
             .iter()
             .map(|t| t.0)
             .collect();
@@ -763,7 +852,10 @@ impl Kss {
             out.moved_tris.push((TriId(src), TriId(dst)));
         }
         self.tris.truncate(len as usize);
-        let free: Vec<u32> = plan.dead_corrs[plan.new_corrs.len()..]
+        let free: Vec<u32> = plan
+            .dead_corrs
+            .get(plan.new_corrs.len()..)
+            .unwrap_or_default()
             .iter()
             .map(|k| k.0)
             .collect();
