@@ -567,13 +567,14 @@ impl Simulation {
 
     /// The contract's `remove` response to `collisions` (returned by the
     /// latest [`Simulation::advance`]): both polygons of each pair leave
-    /// the scene, except fixed ones.
+    /// the scene, except fixed ones. As with [`Simulation::remove`], the
+    /// other pairs of a polygon that leaves are answered too.
     pub fn remove_colliding(&mut self, collisions: &[CollisionEvent]) -> Result<(), SimError> {
         self.check()?;
         let pairs = self.pairs_of(collisions)?;
         let ids: Vec<BodyId> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
         let removed = self.world.remove(&ids);
-        self.answer(&[], &pairs);
+        self.answer(&removed, &pairs);
         self.update(&removed)
     }
 

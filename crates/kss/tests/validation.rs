@@ -2,8 +2,8 @@
 //! polygon or entry; no input makes the library panic.
 
 use kss::{
-    run, CollisionMode, FlightPlanChange, PolygonSpec, RunOptions, Scenario, ScenarioError,
-    StructureKind,
+    run, CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, RunError, RunOptions,
+    Scenario, ScenarioError, StructureKind,
 };
 use proptest::prelude::*;
 
@@ -265,6 +265,219 @@ fn overlap_at_time_zero_names_the_pair() {
     let mut s = base();
     s.polygons[1].position = [1.0f64.next_up(), 0.0];
     assert_eq!(s.validate(), Ok(()));
+}
+
+fn insertion(id: &str, time: f64, x: f64) -> Insertion {
+    Insertion {
+        time,
+        polygon: sq(id, x, 5.0),
+    }
+}
+
+fn removal(id: &str, time: f64) -> Removal {
+    Removal {
+        time,
+        id: id.into(),
+    }
+}
+
+#[test]
+fn insertions() {
+    let mut s = base();
+    s.insertions = vec![insertion("c", 1.0, 0.0), insertion("d", 10.0, 3.0)];
+    s.removals = vec![removal("c", 2.0), removal("a", 10.0)];
+    assert_eq!(s.validate(), Ok(())); // at `until` is allowed
+    let mut s = base();
+    s.insertions = vec![insertion("c", 1.0, 0.0), insertion("", 1.0, 3.0)];
+    assert_eq!(err(&s), ScenarioError::EmptyInsertedId { index: 1 });
+    for t in [0.0, -1.0, 10.5] {
+        let mut s = base();
+        s.insertions = vec![insertion("c", t, 0.0)];
+        assert!(matches!(
+            err(&s),
+            ScenarioError::InsertionTimeOutOfRange { index: 0, ref id, .. } if id == "c"
+        ));
+    }
+    // ids are unique across polygons and insertions
+    let mut s = base();
+    s.insertions = vec![insertion("b", 1.0, 0.0)];
+    assert_eq!(err(&s), ScenarioError::DuplicateId { id: "b".into() });
+    let mut s = base();
+    s.insertions = vec![insertion("c", 1.0, 0.0), insertion("c", 2.0, 3.0)];
+    assert_eq!(err(&s), ScenarioError::DuplicateId { id: "c".into() });
+    // an inserted polygon follows the rules of `polygons`
+    let mut s = base();
+    let mut p = insertion("c", 1.0, 0.0);
+    p.polygon.vertices.reverse();
+    s.insertions = vec![p];
+    assert_eq!(err(&s), ScenarioError::Clockwise { id: "c".into() });
+    let mut s = base();
+    let mut p = insertion("c", 1.0, 0.0);
+    p.polygon.vertices.truncate(2);
+    s.insertions = vec![p];
+    assert_eq!(
+        err(&s),
+        ScenarioError::TooFewVertices {
+            id: "c".into(),
+            count: 2
+        }
+    );
+    let mut s = base();
+    let mut p = insertion("c", 1.0, 0.0);
+    p.polygon.fixed = true;
+    p.polygon.velocity = [1.0, 0.0];
+    s.insertions = vec![p];
+    assert_eq!(err(&s), ScenarioError::FixedWithVelocity { id: "c".into() });
+    let mut s = base();
+    let mut p = insertion("c", 1.0, 0.0);
+    p.polygon.position[0] = f64::NAN;
+    s.insertions = vec![p];
+    assert!(err(&s).to_string().contains("\"c\" position"));
+    // an insertion where a polygon is at time 0 is checked during the run
+    let mut s = base();
+    s.insertions = vec![Insertion {
+        time: 1.0,
+        polygon: sq("c", 0.0, 0.0),
+    }];
+    assert_eq!(s.validate(), Ok(()));
+}
+
+#[test]
+fn removals() {
+    for t in [0.0, -1.0, 10.5, f64::NAN] {
+        let mut s = base();
+        s.removals = vec![removal("a", t)];
+        let e = err(&s);
+        if t.is_nan() {
+            assert!(e.to_string().contains("removals[0] time"), "{e}");
+        } else {
+            assert!(matches!(
+                e,
+                ScenarioError::RemovalTimeOutOfRange { index: 0, ref id, .. } if id == "a"
+            ));
+        }
+    }
+    let mut s = base();
+    s.removals = vec![removal("a", 1.0), removal("zz", 1.0)];
+    assert_eq!(
+        err(&s),
+        ScenarioError::UnknownRemovalId {
+            index: 1,
+            id: "zz".into()
+        }
+    );
+    let mut s = base();
+    s.removals = vec![removal("b", 1.0), removal("a", 1.0), removal("b", 2.0)];
+    assert_eq!(
+        err(&s),
+        ScenarioError::DuplicateRemoval {
+            first: 0,
+            second: 2,
+            id: "b".into()
+        }
+    );
+    // an inserted polygon leaves strictly after it enters
+    for t in [1.0, 2.0] {
+        let mut s = base();
+        s.insertions = vec![insertion("c", 2.0, 0.0)];
+        s.removals = vec![removal("c", t)];
+        assert_eq!(
+            err(&s),
+            ScenarioError::RemovalNotAfterInsertion {
+                index: 0,
+                id: "c".into(),
+                time: t,
+                inserted: 2.0
+            }
+        );
+    }
+    // fixed polygons may leave
+    let mut s = base();
+    s.polygons[0].fixed = true;
+    s.removals = vec![removal("a", 1.0)];
+    assert_eq!(s.validate(), Ok(()));
+}
+
+#[test]
+fn changes_outside_a_lifetime() {
+    // before and at the insertion
+    for t in [1.0, 2.0] {
+        let mut s = base();
+        s.insertions = vec![insertion("c", 2.0, 0.0)];
+        s.flight_plan_changes = vec![change("a", 1.0), change("c", t)];
+        assert!(matches!(
+            err(&s),
+            ScenarioError::ChangeOutsideLifetime { index: 1, ref id, time, ref why }
+                if id == "c" && time == t && why.contains("insertion")
+        ));
+    }
+    // at and after the removal, of an initial and of an inserted polygon
+    for (id, t) in [("a", 3.0), ("a", 4.0), ("c", 3.0), ("c", 4.0)] {
+        let mut s = base();
+        s.insertions = vec![insertion("c", 2.0, 0.0)];
+        s.removals = vec![removal(id, 3.0)];
+        s.flight_plan_changes = vec![change(id, 2.5), change(id, t)];
+        assert!(matches!(
+            err(&s),
+            ScenarioError::ChangeOutsideLifetime { index: 1, id: ref got, time, ref why }
+                if got == id && time == t && why.contains("removal")
+        ));
+    }
+    // inside the lifetime
+    let mut s = base();
+    s.insertions = vec![insertion("c", 2.0, 0.0)];
+    s.removals = vec![removal("c", 3.0)];
+    s.flight_plan_changes = vec![change("c", 2.5)];
+    assert_eq!(s.validate(), Ok(()));
+}
+
+/// `b` runs into `a` at t = 1 (reported), then `c` enters at t = 2 where
+/// `a` is: the run stops with the insertion's error naming both polygons
+/// and the time, after the collision was reported, with every structure.
+#[test]
+fn insertion_touching_a_present_polygon_stops_the_run() {
+    let mut s = base();
+    s.on_collision = CollisionMode::Bounce;
+    s.polygons[0].fixed = true;
+    s.polygons[1].velocity = [-2.0, 0.0];
+    s.insertions = vec![
+        insertion("c", 1.5, 0.0),
+        Insertion {
+            time: 2.0,
+            polygon: sq("d", 0.5, 1.0),
+        },
+    ];
+    for structure in [
+        StructureKind::Brute,
+        StructureKind::Plain,
+        StructureKind::Hierarchical,
+    ] {
+        let mut events = Vec::new();
+        let r = run(
+            &s,
+            &RunOptions {
+                structure,
+                audit: true,
+                ..Default::default()
+            },
+            &mut |e| events.push((e.time.to_f64(), e.a.clone(), e.b.clone())),
+        );
+        assert_eq!(
+            events,
+            [(1.0, "a".to_string(), "b".to_string())],
+            "{}",
+            structure.name()
+        );
+        assert!(
+            matches!(
+                r,
+                Err(RunError::InsertionTouches { ref inserted, ref present, time })
+                    if inserted == "d" && present == "a" && time == 2.0
+            ),
+            "{}: {r:?}",
+            structure.name()
+        );
+    }
 }
 
 fn arb_scenario() -> impl Strategy<Value = Scenario> {
