@@ -83,6 +83,7 @@ fn variant(e: &SimError) -> &'static str {
         SimError::BadTime { .. } => "BadTime",
         SimError::Unanswered { .. } => "Unanswered",
         SimError::NotColliding { .. } => "NotColliding",
+        SimError::Aborted(_) => "Aborted",
         SimError::Internal(_) => "Internal",
     }
 }
@@ -729,7 +730,6 @@ fn random_scripts_match_brute() {
 
 /// As [`random_scripts_match_brute`], polygons entering at any time.
 #[test]
-#[ignore = "bug: an insertion while two polygons are in contact (an unanswered collision, or a sliding contact) fails in the hierarchical structure with an internal error; see insertion_while_sliding and insertion_before_answering"]
 fn random_scripts_with_insertions_match_brute() {
     sweep(Config {
         kinds: ALL,
@@ -891,7 +891,6 @@ fn sliding_contacts_after_bounce_match_brute() {
 
 /// A polygon enters far away while a collision waits for its answer.
 #[test]
-#[ignore = "bug: the hierarchical structure fails (internal error: bodies a and b overlap with no approximation vertex left to refine)"]
 fn insertion_before_answering_a_collision() {
     let mut run = lockstep(
         "two squares head on",
@@ -909,7 +908,6 @@ fn insertion_before_answering_a_collision() {
 
 /// A polygon enters far away while a square slides along a fixed floor.
 #[test]
-#[ignore = "bug: the hierarchical structure fails (internal error: bodies floor and a overlap with no approximation vertex left to refine)"]
 fn insertion_while_sliding() {
     let mut run = lockstep(
         "a square lands on a floor and slides",
@@ -931,7 +929,6 @@ fn insertion_while_sliding() {
 /// The same in a scenario file: the square bounces, then slides (a
 /// flight-plan change), and a polygon enters while it slides.
 #[test]
-#[ignore = "bug: the hierarchical structure fails (internal error: bodies floor and a overlap with no approximation vertex left to refine)"]
 fn scenario_insertion_while_sliding() {
     let s = kss::Scenario {
         until: 4.0,

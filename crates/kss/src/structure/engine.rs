@@ -584,6 +584,18 @@ impl Kinetic {
         kss: Kss,
         perturbed: super::build::Perturbed,
     ) -> Result<Kinetic, String> {
+        // every alive polygon is in a structure of the right size: one built
+        // at an instant where polygons overlap lacks some (a cheap check;
+        // the rebuilds for just after an instant try an earlier one then)
+        let n = world.bodies().iter().filter(|b| b.alive).count();
+        if n >= 2 && (kss.tris.len() != 2 * n - 2 || kss.corrs.len() != 3 * n - 3) {
+            return Err(format!(
+                "{} partition triangles and {} corridors for {n} polygons: polygons overlap at t = {}",
+                kss.tris.len(),
+                kss.corrs.len(),
+                t.to_f64()
+            ));
+        }
         let mut k = Kinetic {
             kss,
             ..Default::default()
