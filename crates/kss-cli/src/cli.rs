@@ -164,8 +164,8 @@ pub struct GenArgs {
     /// Seed of the generator (same seed, same scenario, forever).
     #[arg(long, global = true, default_value_t = 0)]
     pub seed: u64,
-    /// Collision mode (default: bounce for gas, far and swarm, stop for the
-    /// others).
+    /// Collision mode (default: bounce for gas, far and swarm, remove for
+    /// churn, stop for the others).
     #[arg(long, global = true, value_enum)]
     pub mode: Option<ModeArg>,
     /// Make the small random instance of the test sweeps for this seed
@@ -192,6 +192,11 @@ pub enum GenFamily {
     /// Regular n-gons in a box of walls, velocities in [-1, 1]², about 12
     /// collisions per polygon (bounce mode by default).
     Swarm(SwarmArgs),
+    /// Polygons entering and leaving during the run: clusters inserted at
+    /// free places, removals (one at the instant of a collision), fixed
+    /// polygons inserted and removed, flight-plan changes (remove mode by
+    /// default).
+    Churn(ChurnArgs),
 }
 
 /// Options of `kss gen flypast`.
@@ -275,6 +280,20 @@ pub struct SwarmArgs {
     #[arg(long, value_name = "C", value_parser = parse_positive, conflicts_with = "until")]
     pub collisions: Option<f64>,
     /// End of the simulated interval instead of the calibrated one.
+    #[arg(long, value_parser = parse_positive)]
+    pub until: Option<f64>,
+}
+
+/// Options of `kss gen churn`.
+#[derive(Debug, Args)]
+pub struct ChurnArgs {
+    /// Number of moving polygons present at time 0.
+    #[arg(long)]
+    pub k: Option<usize>,
+    /// Number of clusters of polygons inserted during the run.
+    #[arg(long)]
+    pub clusters: Option<usize>,
+    /// End of the simulated interval (at least 1).
     #[arg(long, value_parser = parse_positive)]
     pub until: Option<f64>,
 }

@@ -379,13 +379,19 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
         GenFamily::Grazing(_) => Some(gen::Family::Grazing),
         GenFamily::Parallel(_) => Some(gen::Family::Parallel),
         GenFamily::Far(_) => Some(gen::Family::Far),
-        GenFamily::Swarm(_) => None,
+        GenFamily::Swarm(_) | GenFamily::Churn(_) => None,
     };
     if args.small {
         let Some(family) = family else {
+            let name = match args.family {
+                GenFamily::Churn(_) => "churn",
+                _ => "swarm",
+            };
             return Err(CliError::new(
                 ErrorKind::Usage,
-                "--small: swarm has no small instance of the test sweeps; give --k and --n",
+                format!(
+                    "--small: {name} has no small instance of the test sweeps; give its options"
+                ),
             ));
         };
         let other = args.mode.is_some()
@@ -406,7 +412,9 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 GenFamily::Grazing(a) | GenFamily::Parallel(a) => {
                     a.pairs.is_some() || a.until.is_some()
                 }
-                GenFamily::Swarm(_) => unreachable!("swarm has no small instance"),
+                GenFamily::Swarm(_) | GenFamily::Churn(_) => {
+                    unreachable!("swarm and churn have no small instance")
+                }
             };
         if other {
             return Err(CliError::new(
@@ -515,6 +523,27 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 } else {
                     String::new()
                 }
+            );
+            sc
+        }
+        GenFamily::Churn(a) => {
+            let d = gen::ChurnParams::default();
+            let p = gen::ChurnParams {
+                k: a.k.unwrap_or(d.k),
+                clusters: a.clusters.unwrap_or(d.clusters),
+                mode: mode_or(args, d.mode),
+                until: a.until.unwrap_or(d.until),
+                seed: args.seed,
+            };
+            p.check().map_err(invalid)?;
+            let sc = gen::churn(&p);
+            eprintln!(
+                "kss gen churn: {} polygons at the start, {} insertions, {} removals, {} flight-plan changes, until {}",
+                sc.polygons.len(),
+                sc.insertions.len(),
+                sc.removals.len(),
+                sc.flight_plan_changes.len(),
+                sc.until
             );
             sc
         }

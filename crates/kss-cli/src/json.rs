@@ -444,60 +444,128 @@ fn finite(what: impl Fn() -> String, values: &[f64]) -> Result<(), WriteError> {
     }
 }
 
-/// Writes `scenario` as a scenario file (version 1), one polygon and one
-/// flight-plan change per line. Every number reads back to the identical
-/// double. Non-finite numbers cannot be written.
+/// One insertion as written (the polygon's fields inline).
+#[derive(Serialize)]
+struct InsertionOut<'a> {
+    time: f64,
+    polygon: PolygonOut<'a>,
+}
+
+/// One removal as written.
+#[derive(Serialize)]
+struct RemovalOut<'a> {
+    time: f64,
+    id: &'a str,
+}
+
+/// A polygon's numbers checked finite; `what` names it in the error.
+fn polygon_out<'a>(
+    p: &'a PolygonSpec,
+    what: impl Fn() -> String,
+) -> Result<PolygonOut<'a>, WriteError> {
+    finite(&what, &p.position)?;
+    finite(&what, &p.velocity)?;
+    for v in &p.vertices {
+        finite(&what, v)?;
+    }
+    Ok(PolygonOut {
+        id: &p.id,
+        vertices: &p.vertices,
+        position: p.position,
+        velocity: p.velocity,
+        fixed: p.fixed,
+    })
+}
+
+/// Appends `"  "name": [` and one serialized entry per line, then `]` and
+/// `tail`.
+fn push_array(out: &mut String, name: &str, lines: &[String], tail: &str) {
+    out.push_str(&format!("  \"{name}\": ["));
+    for (i, line) in lines.iter().enumerate() {
+        out.push_str(if i == 0 { "\n    " } else { ",\n    " });
+        out.push_str(line);
+    }
+    out.push_str(if lines.is_empty() { "]" } else { "\n  ]" });
+    out.push_str(tail);
+}
+
+fn line<T: Serialize>(value: &T) -> String {
+    serde_json::to_string(value).expect("finite numbers and strings always serialize")
+}
+
+/// Writes `scenario` as a scenario file (version 1), one polygon,
+/// flight-plan change, insertion and removal per line. Every number reads
+/// back to the identical double. The `insertions` and `removals` arrays are
+/// written only when they are not empty (absent means empty), so a scenario
+/// without them is written as before they existed. Non-finite numbers
+/// cannot be written.
 pub fn write_scenario(scenario: &Scenario) -> Result<String, WriteError> {
     finite(|| "until".to_string(), &[scenario.until])?;
     let mut out = String::new();
     out.push_str("{\n  \"version\": 1,\n");
     out.push_str(&format!(
-        "  \"until\": {},\n  \"on_collision\": \"{}\",\n  \"polygons\": [",
+        "  \"until\": {},\n  \"on_collision\": \"{}\",\n",
         json_f64(scenario.until),
         scenario.on_collision.name()
     ));
-    for (i, p) in scenario.polygons.iter().enumerate() {
-        let what = || format!("polygon {:?}", p.id);
-        finite(what, &p.position)?;
-        finite(what, &p.velocity)?;
-        for v in &p.vertices {
-            finite(what, v)?;
-        }
-        let line = serde_json::to_string(&PolygonOut {
-            id: &p.id,
-            vertices: &p.vertices,
-            position: p.position,
-            velocity: p.velocity,
-            fixed: p.fixed,
+    let polygons = scenario
+        .polygons
+        .iter()
+        .map(|p| Ok(line(&polygon_out(p, || format!("polygon {:?}", p.id))?)))
+        .collect::<Result<Vec<_>, WriteError>>()?;
+    push_array(&mut out, "polygons", &polygons, ",\n");
+    let changes = scenario
+        .flight_plan_changes
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let what = || format!("flight_plan_changes[{i}]");
+            finite(what, &[c.time])?;
+            finite(what, &c.velocity)?;
+            Ok(line(&ChangeOut {
+                time: c.time,
+                id: &c.id,
+                velocity: c.velocity,
+            }))
         })
-        .expect("finite numbers and strings always serialize");
-        out.push_str(if i == 0 { "\n    " } else { ",\n    " });
-        out.push_str(&line);
-    }
-    out.push_str(if scenario.polygons.is_empty() {
-        "],\n"
-    } else {
-        "\n  ],\n"
-    });
-    out.push_str("  \"flight_plan_changes\": [");
-    for (i, c) in scenario.flight_plan_changes.iter().enumerate() {
-        let what = || format!("flight_plan_changes[{i}]");
-        finite(what, &[c.time])?;
-        finite(what, &c.velocity)?;
-        let line = serde_json::to_string(&ChangeOut {
-            time: c.time,
-            id: &c.id,
-            velocity: c.velocity,
+        .collect::<Result<Vec<_>, WriteError>>()?;
+    let insertions = scenario
+        .insertions
+        .iter()
+        .enumerate()
+        .map(|(i, ins)| {
+            let what = || format!("insertions[{i}] (polygon {:?})", ins.polygon.id);
+            finite(what, &[ins.time])?;
+            Ok(line(&InsertionOut {
+                time: ins.time,
+                polygon: polygon_out(&ins.polygon, what)?,
+            }))
         })
-        .expect("finite numbers and strings always serialize");
-        out.push_str(if i == 0 { "\n    " } else { ",\n    " });
-        out.push_str(&line);
+        .collect::<Result<Vec<_>, WriteError>>()?;
+    let removals = scenario
+        .removals
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            finite(|| format!("removals[{i}] (polygon {:?})", r.id), &[r.time])?;
+            Ok(line(&RemovalOut {
+                time: r.time,
+                id: &r.id,
+            }))
+        })
+        .collect::<Result<Vec<_>, WriteError>>()?;
+    let mut arrays: Vec<(&str, Vec<String>)> = vec![("flight_plan_changes", changes)];
+    if !insertions.is_empty() {
+        arrays.push(("insertions", insertions));
     }
-    out.push_str(if scenario.flight_plan_changes.is_empty() {
-        "]\n}\n"
-    } else {
-        "\n  ]\n}\n"
-    });
+    if !removals.is_empty() {
+        arrays.push(("removals", removals));
+    }
+    let last = arrays.len() - 1;
+    for (k, (name, lines)) in arrays.iter().enumerate() {
+        push_array(&mut out, name, lines, if k == last { "\n" } else { ",\n" });
+    }
+    out.push_str("}\n");
     Ok(out)
 }
 

@@ -64,6 +64,19 @@ fn err(text: &str) -> ScenarioJsonError {
     }
 }
 
+/// Bit-exact equality of two polygons (`-0.0` differs from `0.0`).
+fn assert_identical_polygon(p: &kss::PolygonSpec, q: &kss::PolygonSpec) {
+    let bits = |x: &[f64; 2]| [x[0].to_bits(), x[1].to_bits()];
+    assert_eq!(p.id, q.id);
+    assert_eq!(p.fixed, q.fixed);
+    assert_eq!(bits(&p.position), bits(&q.position), "{}", p.id);
+    assert_eq!(bits(&p.velocity), bits(&q.velocity), "{}", p.id);
+    assert_eq!(p.vertices.len(), q.vertices.len());
+    for (u, v) in p.vertices.iter().zip(&q.vertices) {
+        assert_eq!(bits(u), bits(v), "{}", p.id);
+    }
+}
+
 /// Bit-exact equality of two scenarios (`-0.0` differs from `0.0`).
 fn assert_identical(a: &Scenario, b: &Scenario) {
     let bits = |x: &[f64; 2]| [x[0].to_bits(), x[1].to_bits()];
@@ -71,20 +84,23 @@ fn assert_identical(a: &Scenario, b: &Scenario) {
     assert_eq!(a.on_collision, b.on_collision);
     assert_eq!(a.polygons.len(), b.polygons.len());
     for (p, q) in a.polygons.iter().zip(&b.polygons) {
-        assert_eq!(p.id, q.id);
-        assert_eq!(p.fixed, q.fixed);
-        assert_eq!(bits(&p.position), bits(&q.position), "{}", p.id);
-        assert_eq!(bits(&p.velocity), bits(&q.velocity), "{}", p.id);
-        assert_eq!(p.vertices.len(), q.vertices.len());
-        for (u, v) in p.vertices.iter().zip(&q.vertices) {
-            assert_eq!(bits(u), bits(v), "{}", p.id);
-        }
+        assert_identical_polygon(p, q);
     }
     assert_eq!(a.flight_plan_changes.len(), b.flight_plan_changes.len());
     for (c, d) in a.flight_plan_changes.iter().zip(&b.flight_plan_changes) {
         assert_eq!(c.id, d.id);
         assert_eq!(c.time.to_bits(), d.time.to_bits());
         assert_eq!(bits(&c.velocity), bits(&d.velocity));
+    }
+    assert_eq!(a.insertions.len(), b.insertions.len());
+    for (i, j) in a.insertions.iter().zip(&b.insertions) {
+        assert_eq!(i.time.to_bits(), j.time.to_bits(), "{}", i.polygon.id);
+        assert_identical_polygon(&i.polygon, &j.polygon);
+    }
+    assert_eq!(a.removals.len(), b.removals.len());
+    for (r, q) in a.removals.iter().zip(&b.removals) {
+        assert_eq!(r.id, q.id);
+        assert_eq!(r.time.to_bits(), q.time.to_bits(), "{}", r.id);
     }
 }
 
@@ -478,6 +494,135 @@ fn writer_round_trips_exactly() {
     assert!(e.to_string().contains(&bad.polygons[2].id));
 }
 
+/// A scenario with insertions and removals of awkward numbers and ids.
+fn churned_demo() -> Scenario {
+    let mut sc = kss::gen::demo();
+    let mut late = sc.polygons[0].clone();
+    late.id = "late \"one\" ü".into();
+    late.position = [-0.0, 0.1 + 0.2];
+    late.velocity = [5e-324, -1.7976931348623157e308];
+    let mut wall = sc.polygons[1].clone();
+    wall.id = "late wall".into();
+    wall.velocity = [0.0, 0.0];
+    wall.fixed = true;
+    sc.insertions = vec![
+        kss::Insertion {
+            time: 1.0 / 3.0,
+            polygon: late,
+        },
+        kss::Insertion {
+            time: 2.5,
+            polygon: wall,
+        },
+    ];
+    sc.removals = vec![
+        kss::Removal {
+            time: 0.1,
+            id: sc.polygons[2].id.clone(),
+        },
+        kss::Removal {
+            time: 2.5f64.next_up(),
+            id: "late wall".into(),
+        },
+    ];
+    sc
+}
+
+#[test]
+fn writer_round_trips_insertions_and_removals() {
+    let sc = churned_demo();
+    let text = write_scenario(&sc).unwrap();
+    let back = parse_scenario(&text).unwrap();
+    assert_identical(&sc, &back);
+    assert_eq!(back, sc);
+    // one entry per line
+    let lines: Vec<&str> = text.lines().collect();
+    let entries = |polygon: bool| {
+        lines
+            .iter()
+            .filter(|l| l.trim_start().starts_with("{\"time\":"))
+            .filter(|l| l.contains("\"polygon\":{") == polygon && l.contains("velocity") == polygon)
+            .count()
+    };
+    assert_eq!(entries(true), 2, "{text}");
+    assert_eq!(entries(false), 2, "{text}");
+    assert!(
+        lines.iter().any(|l| l.trim() == "\"insertions\": ["),
+        "{text}"
+    );
+    assert!(
+        lines.iter().any(|l| l.trim() == "\"removals\": ["),
+        "{text}"
+    );
+    // only one of the two arrays
+    for (insertions, removals) in [(true, false), (false, true)] {
+        let mut one = sc.clone();
+        if !insertions {
+            one.insertions.clear();
+        }
+        if !removals {
+            one.removals.clear();
+        }
+        let text = write_scenario(&one).unwrap();
+        assert_eq!(text.contains("\"insertions\""), insertions, "{text}");
+        assert_eq!(text.contains("\"removals\""), removals, "{text}");
+        assert_identical(&one, &parse_scenario(&text).unwrap());
+    }
+    // generated scenes
+    for seed in 0..10 {
+        for mode in [
+            kss::CollisionMode::Stop,
+            kss::CollisionMode::Remove,
+            kss::CollisionMode::Bounce,
+        ] {
+            let sc = kss::gen::churn(&kss::gen::ChurnParams {
+                mode,
+                seed,
+                ..Default::default()
+            });
+            assert!(!sc.insertions.is_empty() && !sc.removals.is_empty());
+            let back = parse_scenario(&write_scenario(&sc).unwrap()).unwrap();
+            assert_identical(&sc, &back);
+        }
+    }
+    // non-finite numbers name the entry
+    let mut bad = churned_demo();
+    bad.insertions[1].polygon.vertices[0][1] = f64::INFINITY;
+    let e = write_scenario(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("insertions[1]") && e.contains("late wall"),
+        "{e}"
+    );
+    let mut bad = churned_demo();
+    bad.removals[0].time = f64::NAN;
+    let e = write_scenario(&bad).unwrap_err().to_string();
+    assert!(e.contains("removals[0]"), "{e}");
+}
+
+#[test]
+fn writer_leaves_out_empty_insertions_and_removals() {
+    // a scenario without them is written exactly as the contract's older
+    // files: the two arrays are absent
+    let sc = kss::gen::generate_small(Family::Gas, 4);
+    let text = write_scenario(&sc).unwrap();
+    assert!(
+        !text.contains("insertions") && !text.contains("removals"),
+        "{text}"
+    );
+    assert!(
+        text.ends_with("  ]\n}\n") || text.ends_with("[]\n}\n"),
+        "{text}"
+    );
+    let empty = Scenario {
+        until: 2.0,
+        ..Default::default()
+    };
+    assert_eq!(
+        write_scenario(&empty).unwrap(),
+        "{\n  \"version\": 1,\n  \"until\": 2.0,\n  \"on_collision\": \"stop\",\n  \"polygons\": [],\n  \"flight_plan_changes\": []\n}\n"
+    );
+}
+
 #[test]
 fn event_lines_and_stats_are_json() {
     let e = kss::CollisionEvent {
@@ -755,6 +900,292 @@ fn gen_refuses_bad_parameters() {
     assert_eq!(o.status.code(), Some(2));
     let o = run_kss(&["gen", "grazing", "--pairs", "0"], None);
     assert_eq!(o.status.code(), Some(1));
+}
+
+/// The `kss gen churn` command line of a seed and mode.
+fn churn_args(seed: u64, mode: &str) -> Vec<String> {
+    ["gen", "churn", "--seed", &seed.to_string(), "--mode", mode]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+}
+
+#[test]
+fn gen_churn_writes_the_library_scene() {
+    for (seed, mode, want_mode) in [
+        (3, "stop", kss::CollisionMode::Stop),
+        (4, "remove", kss::CollisionMode::Remove),
+        (5, "bounce", kss::CollisionMode::Bounce),
+    ] {
+        let args = churn_args(seed, mode);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run_kss(&args, None);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stderr(&o).contains("insertions"), "{}", stderr(&o));
+        let sc = parse_scenario(&stdout(&o)).unwrap();
+        let want = kss::gen::churn(&kss::gen::ChurnParams {
+            mode: want_mode,
+            seed,
+            ..Default::default()
+        });
+        assert_identical(&sc, &want);
+        assert!(sc.insertions.iter().any(|i| i.polygon.fixed));
+        assert!(sc.removals.len() >= 3);
+    }
+    // options and the default mode
+    let o = run_kss(
+        &[
+            "gen",
+            "churn",
+            "--k",
+            "5",
+            "--clusters",
+            "2",
+            "--until",
+            "3",
+            "--seed",
+            "9",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sc = parse_scenario(&stdout(&o)).unwrap();
+    let want = kss::gen::churn(&kss::gen::ChurnParams {
+        k: 5,
+        clusters: 2,
+        until: 3.0,
+        seed: 9,
+        ..Default::default()
+    });
+    assert_identical(&sc, &want);
+    assert_eq!(sc.on_collision, kss::CollisionMode::Remove);
+    assert_eq!(sc.until, 3.0);
+    // refused parameters
+    let o = run_kss(&["gen", "churn", "--until", "0.5"], None);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("until is 0.5"), "{}", stderr(&o));
+    let o = run_kss(&["gen", "churn", "--small"], None);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("churn"), "{}", stderr(&o));
+}
+
+/// Runs a scenario text with a structure; exit status and stdout.
+fn run_text(text: &str, structure: &str, extra: &[&str]) -> Output {
+    let args = [
+        &["run", "-", "--structure", structure, "--quiet"][..],
+        extra,
+    ]
+    .concat();
+    run_kss(&args, Some(text))
+}
+
+#[test]
+fn churn_scenes_give_identical_events_with_every_structure() {
+    let mut inserted_collisions = 0;
+    for mode in ["stop", "remove", "bounce"] {
+        for seed in 0..8 {
+            let args = churn_args(seed, mode);
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            let o = run_kss(&args, None);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let scenario = stdout(&o);
+            let brute = run_text(&scenario, "brute", &[]);
+            assert_eq!(
+                brute.status.code(),
+                Some(0),
+                "seed {seed} {mode}: {}",
+                stderr(&brute)
+            );
+            let events = stdout(&brute);
+            inserted_collisions += events.lines().filter(|l| l.contains("\"c")).count();
+            for structure in ["plain", "hierarchical"] {
+                let o = run_text(&scenario, structure, &[]);
+                assert_eq!(
+                    o.status.code(),
+                    Some(0),
+                    "seed {seed} {mode} {structure}: {}",
+                    stderr(&o)
+                );
+                assert_eq!(
+                    stdout(&o),
+                    events,
+                    "seed {seed} {mode}: {structure} and brute differ"
+                );
+            }
+        }
+    }
+    // the inserted polygons take part in the collisions
+    assert!(inserted_collisions >= 10, "{inserted_collisions}");
+}
+
+const SQUARE: &str = "[[0, 0], [1, 0], [1, 1], [0, 1]]";
+
+/// Unit squares in `remove` mode: `a` and `b` collide at t = 1 (edges
+/// 1 + t and 3 - t), `d` and `e` at t = 2.5 (edges 1 + t and 6 - t); `post`
+/// is fixed at [6, 7] × [4, 5]; `extra` is appended to the top level.
+fn squares_with(extra: &str) -> String {
+    format!(
+        r#"{{"version": 1, "until": 10, "on_collision": "remove", "polygons": [
+            {{"id": "a", "vertices": {SQUARE}, "position": [0, 0], "velocity": [1, 0]}},
+            {{"id": "b", "vertices": {SQUARE}, "position": [3, 0], "velocity": [-1, 0]}},
+            {{"id": "d", "vertices": {SQUARE}, "position": [0, 8], "velocity": [1, 0]}},
+            {{"id": "e", "vertices": {SQUARE}, "position": [6, 8], "velocity": [-1, 0]}},
+            {{"id": "post", "vertices": {SQUARE}, "position": [6, 4], "fixed": true}}
+        ]{extra}}}"#
+    )
+}
+
+const EVENT_AB: &str = r#"{"time": 1.0, "a": "a", "b": "b""#;
+const EVENT_DE: &str = r#"{"time": 2.5, "a": "d", "b": "e""#;
+
+#[test]
+fn insertion_touching_a_present_polygon_stops_the_run() {
+    // late overlaps post at t = 2, after a and b collided, before d and e do
+    let text = squares_with(
+        r#", "insertions": [{"time": 2, "polygon": {"id": "late", "vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "position": [6.5, 4.5]}}]"#,
+    );
+    for structure in ["brute", "plain", "hierarchical"] {
+        let o = run_text(&text, structure, &[]);
+        assert_eq!(o.status.code(), Some(1), "{structure}: {}", stderr(&o));
+        let out = stdout(&o);
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.len(), 1, "{structure}: {out}");
+        assert!(lines[0].starts_with(EVENT_AB), "{structure}: {out}");
+        let err = stderr(&o);
+        for name in ["\"late\"", "\"post\"", "t = 2"] {
+            assert!(err.contains(name), "{structure}: {name} not in {err}");
+        }
+    }
+    // touching (a shared edge) counts too; a polygon that left in a
+    // collision at that very instant is no longer there
+    let touching = squares_with(
+        r#", "insertions": [{"time": 2, "polygon": {"id": "late", "vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "position": [7, 4]}}]"#,
+    );
+    let o = run_text(&touching, "hierarchical", &[]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("\"post\""), "{}", stderr(&o));
+    // a and b (edges at 2 when they meet) are removed at t = 1: the same
+    // place is free at t = 1
+    let freed = squares_with(
+        r#", "insertions": [{"time": 1, "polygon": {"id": "late", "vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "position": [1, 0]}}]"#,
+    );
+    for structure in ["brute", "plain", "hierarchical"] {
+        let o = run_text(&freed, structure, &[]);
+        assert_eq!(o.status.code(), Some(0), "{structure}: {}", stderr(&o));
+        let out = stdout(&o);
+        assert_eq!(out.lines().count(), 2, "{structure}: {out}");
+        assert!(out.lines().nth(1).unwrap().starts_with(EVENT_DE), "{out}");
+    }
+}
+
+#[test]
+fn invalid_insertions_and_removals_are_refused_before_simulating() {
+    let late = |time: &str, id: &str, position: &str| {
+        format!(
+            r#"{{"time": {time}, "polygon": {{"id": "{id}", "vertices": {SQUARE}, "position": {position}}}}}"#
+        )
+    };
+    let cases = [
+        (
+            format!(r#", "insertions": [{}]"#, late("0", "late", "[20, 20]")),
+            "insertions[0]",
+        ),
+        (
+            format!(
+                r#", "insertions": [{}, {}]"#,
+                late("1", "late", "[20, 20]"),
+                late("11", "later", "[30, 20]")
+            ),
+            "insertions[1]",
+        ),
+        (
+            format!(r#", "insertions": [{}]"#, late("1", "post", "[20, 20]")),
+            "\"post\"",
+        ),
+        (
+            r#", "insertions": [{"time": 1, "polygon": {"id": "cw", "vertices": [[0, 0], [0, 1], [1, 0]], "position": [20, 20]}}]"#
+                .to_string(),
+            "\"cw\"",
+        ),
+        (
+            r#", "removals": [{"time": 1, "id": "ghost"}]"#.to_string(),
+            "removals[0]",
+        ),
+        (
+            r#", "removals": [{"time": 12, "id": "a"}]"#.to_string(),
+            "removals[0]",
+        ),
+        (
+            r#", "removals": [{"time": 1, "id": "a"}, {"time": 2, "id": "a"}]"#.to_string(),
+            "removals[0] and [1]",
+        ),
+        (
+            format!(
+                r#", "insertions": [{}], "removals": [{{"time": 3, "id": "late"}}]"#,
+                late("3", "late", "[20, 20]")
+            ),
+            "removals[0]",
+        ),
+        (
+            format!(
+                r#", "insertions": [{}], "flight_plan_changes": [{{"time": 3, "id": "late", "velocity": [1, 0]}}]"#,
+                late("3", "late", "[20, 20]")
+            ),
+            "flight_plan_changes[0]",
+        ),
+        (
+            r#", "removals": [{"time": 3, "id": "d"}], "flight_plan_changes": [{"time": 3, "id": "d", "velocity": [1, 0]}]"#
+                .to_string(),
+            "flight_plan_changes[0]",
+        ),
+        (
+            r#", "insertions": [{"time": 1}]"#.to_string(),
+            "insertions[0]",
+        ),
+        (
+            r#", "removals": [{"id": "a"}]"#.to_string(),
+            "removals[0]",
+        ),
+    ];
+    for (extra, entry) in &cases {
+        let text = squares_with(extra);
+        for structure in ["brute", "hierarchical"] {
+            let o = run_text(&text, structure, &[]);
+            assert_eq!(o.status.code(), Some(1), "{extra}: {}", stderr(&o));
+            // a and b would collide at t = 1: nothing was simulated
+            assert!(o.stdout.is_empty(), "{extra}: {}", stdout(&o));
+            assert!(
+                stderr(&o).contains(entry),
+                "{extra}: {entry} not in {}",
+                stderr(&o)
+            );
+        }
+    }
+}
+
+#[test]
+fn until_before_an_insertion_ignores_it() {
+    // late overlaps post at t = 3; d and e collide at 2.5
+    let text = squares_with(
+        r#", "insertions": [{"time": 3, "polygon": {"id": "late", "vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "position": [6.5, 4.5], "velocity": [1, 0]}}], "removals": [{"time": 4, "id": "late"}], "flight_plan_changes": [{"time": 3.5, "id": "late", "velocity": [0, 1]}]"#,
+    );
+    for structure in ["brute", "plain", "hierarchical"] {
+        let o = run_text(&text, structure, &[]);
+        assert_eq!(o.status.code(), Some(1), "{structure}: {}", stderr(&o));
+        assert_eq!(stdout(&o).lines().count(), 2, "{structure}");
+        for until in ["2.75", "2.9999999999999996"] {
+            let o = run_text(&text, structure, &["--until", until]);
+            assert_eq!(o.status.code(), Some(0), "{structure}: {}", stderr(&o));
+            let out = stdout(&o);
+            let lines: Vec<&str> = out.lines().collect();
+            assert_eq!(lines.len(), 2, "{structure}: {out}");
+            assert!(lines[0].starts_with(EVENT_AB) && lines[1].starts_with(EVENT_DE));
+        }
+        // at exactly --until, the insertion still happens
+        let o = run_text(&text, structure, &["--until", "3"]);
+        assert_eq!(o.status.code(), Some(1), "{structure}: {}", stderr(&o));
+        assert!(stderr(&o).contains("\"late\""), "{}", stderr(&o));
+    }
 }
 
 #[test]

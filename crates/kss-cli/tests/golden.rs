@@ -155,6 +155,29 @@ const GOLDEN: &[Golden] = &[
         name: "until_override_exact",
         events: &[(5, 4, "p", "q"), (7, 2, "r", "s")],
     },
+    // Unit squares, remove mode. a (edge 1 + t) and b (edge 3 - t) meet at
+    // t = 1 and leave; c enters at t = 1 in a's very place ([1, 2] x [0, 1]),
+    // free because the collisions of an instant come before its insertions.
+    // c moves at 0.5, then at 1 from t = 1.5 (right edge 2.25 then); it would
+    // reach the fixed w (x from 4.5) at t = 3.75, but w leaves at t = 3. d
+    // (edge 1 + t) and e (edge 5 - t) meet at t = 2, the instant of e's
+    // removal (the collision removes it first) and of the fixed gate's
+    // insertion (x from 8). c reaches gate at 2.25 + (t - 1.5) = 8: t = 29/4.
+    Golden {
+        name: "churn_remove",
+        events: &[(1, 1, "a", "b"), (2, 1, "d", "e"), (29, 4, "c", "gate")],
+    },
+    // Unit squares, stop mode. g enters at t = 0.5 at [2.5, 3.5] x [1.5, 2.5]
+    // moving down (bottom 2 - t), below the fixed f ([3, 4] in y, removed at
+    // 0.75). a ([t, 1 + t] x [0, 1]) reaches x = 2.5 at t = 1.5, when g's y
+    // range is [0.5, 1.5]: the first collision, so the run stops there and
+    // c (entered at t = 1 at x from 4, which a would reach at t = 3) stays.
+    // g's bottom reaches a's top (y = 1) at t = 1, when a's x range is
+    // [1, 2], clear of g's.
+    Golden {
+        name: "churn_stop",
+        events: &[(3, 2, "a", "g")],
+    },
     // No polygons: no events.
     Golden {
         name: "empty",
@@ -489,13 +512,19 @@ fn expected_files_match_the_hand_computed_table() {
 // ---------------------------------------------------------------------------
 
 /// The number of polygons and vertices of a scenario file (with the reader of
-/// kss-cli).
+/// kss-cli), inserted ones included: every golden scenario's insertions
+/// happen, and the statistics count every polygon that was in the scene.
 fn size_of(name: &str) -> (u64, u64) {
     let text = std::fs::read_to_string(scenarios_dir().join(format!("{name}.json")))
         .expect("read scenario");
     let sc = kss_cli::json::parse_scenario(&text).expect("golden scenarios parse");
-    let vertices = sc.polygons.iter().map(|p| p.vertices.len() as u64).sum();
-    (sc.polygons.len() as u64, vertices)
+    let all: Vec<&kss::PolygonSpec> = sc
+        .polygons
+        .iter()
+        .chain(sc.insertions.iter().map(|i| &i.polygon))
+        .collect();
+    let vertices = all.iter().map(|p| p.vertices.len() as u64).sum();
+    (all.len() as u64, vertices)
 }
 
 /// Checks a `--stats` file against the contract.
@@ -679,12 +708,15 @@ fn other_structures_report_the_golden_events() {
 // ---------------------------------------------------------------------------
 
 /// The world vertices of polygon `id` at time `t` (no bounces: the path is
-/// given by the scenario's velocities and flight-plan changes alone).
+/// given by the scenario's velocities and flight-plan changes alone, from
+/// time 0 or from the polygon's insertion).
 fn world_polygon(sc: &kss::Scenario, id: &str, t: f64) -> Vec<[f64; 2]> {
-    let p = sc
+    let (p, start) = sc
         .polygons
         .iter()
-        .find(|p| p.id == id)
+        .map(|p| (p, 0.0))
+        .chain(sc.insertions.iter().map(|i| (&i.polygon, i.time)))
+        .find(|(p, _)| p.id == id)
         .expect("event names a polygon");
     let mut changes: Vec<&kss::FlightPlanChange> = sc
         .flight_plan_changes
@@ -692,7 +724,7 @@ fn world_polygon(sc: &kss::Scenario, id: &str, t: f64) -> Vec<[f64; 2]> {
         .filter(|c| c.id == id && c.time < t)
         .collect();
     changes.sort_by(|x, y| x.time.total_cmp(&y.time));
-    let (mut pos, mut vel, mut now) = (p.position, p.velocity, 0.0);
+    let (mut pos, mut vel, mut now) = (p.position, p.velocity, start);
     for c in changes {
         pos = [
             pos[0] + vel[0] * (c.time - now),
