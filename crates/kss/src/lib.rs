@@ -9,6 +9,9 @@
 //! # Contents
 //!
 //! - [`run`]: validate a [`Scenario`] and report its collisions ([`CollisionEvent`]).
+//! - [`Simulation`]: the same, driven by the caller: advance to the next
+//!   collision, answer it (new velocities, removals, insertions, or a
+//!   built-in response), advance again.
 //! - [`scenario`]: the input data and its errors; [`gen`]: scenario generators.
 //! - [`num`]: exact numbers and the exact, filtered order of event [`num::Time`]s.
 //! - [`geom`], [`motion`]: exact predicates and certificate functions.
@@ -51,6 +54,46 @@
 //! assert_eq!(events.len(), 1);
 //! assert_eq!(events[0].time.as_rational().unwrap().to_string(), "1/3");
 //! # Ok::<(), kss::RunError>(())
+//! ```
+//!
+//! The same kind of scene driven step by step with a [`Simulation`]: two
+//! unit squares meet, bounce, and the left one bounces again off a fixed
+//! square.
+//!
+//! ```
+//! use kss::{PolygonSpec, SimOptions, Simulation};
+//!
+//! let square = |id: &str, x: f64, vx: f64, fixed: bool| PolygonSpec {
+//!     id: id.into(),
+//!     vertices: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+//!     position: [x, 0.0],
+//!     velocity: [vx, 0.0],
+//!     fixed,
+//! };
+//! let polygons = [
+//!     square("a", 0.0, 1.0, false),
+//!     square("b", 3.0, -1.0, false),
+//!     square("wall", -3.0, 0.0, true),
+//! ];
+//! let mut sim = Simulation::new(&polygons, &SimOptions::default())?;
+//! // the gap of 2 between a and b closes at speed 2: contact at t = 1
+//! let events = sim.advance(10.0)?;
+//! assert_eq!((events[0].a.as_str(), events[0].b.as_str()), ("a", "b"));
+//! assert_eq!(events[0].time.as_rational().unwrap().to_string(), "1");
+//! // equal masses swap velocities: a moves left at speed 1
+//! sim.bounce(&events)?;
+//! assert_eq!(sim.velocity("a")?[0].to_f64(), -1.0);
+//! // a (its left side at x = 1) reaches the wall's side at x = -2 at t = 4
+//! let events = sim.advance(10.0)?;
+//! assert_eq!((events[0].a.as_str(), events[0].b.as_str()), ("a", "wall"));
+//! assert_eq!(events[0].time.as_rational().unwrap().to_string(), "4");
+//! sim.bounce(&events)?;
+//! // no more collisions: both move right at speed 1 until t = 10
+//! assert!(sim.advance(10.0)?.is_empty());
+//! assert_eq!(sim.now().to_f64(), 10.0);
+//! assert_eq!(sim.position("a")?[0].to_string(), "4");
+//! assert_eq!(sim.position("b")?[0].to_string(), "11");
+//! # Ok::<(), kss::SimError>(())
 //! ```
 //!
 //! # Glossary
