@@ -516,25 +516,34 @@ impl World {
     }
 
     /// The first alive body that `body` (not in the world) would touch or
-    /// overlap at time `t`, if any: a box test first, exact on candidates.
+    /// overlap at time `t`, if any: a box test in doubles first (widened
+    /// by far more than their rounding), exact on the candidates.
     fn first_contact_with(&self, body: &Body, t: &Rational) -> Option<BodyId> {
+        let tf = t.to_f64();
         let bounds = |b: &Body| {
-            let p = b.traj.position_at(t);
-            let (x, y) = (p.x.interval(), p.y.interval());
+            let (o, v) = (b.traj.origin().to_f64(), b.traj.velocity().to_f64());
             let bx = b.shape.bounds();
+            let (x, y) = (o[0] + v[0] * tf, o[1] + v[1] * tf);
+            let scale = o[0].abs() + o[1].abs() + (v[0].abs() + v[1].abs()) * tf.abs();
+            let pad = 1e-9 * (scale + bx.iter().map(|c| c.abs()).sum::<f64>()) + 1e-300;
             [
-                (bx[0] + x.lo).next_down(),
-                (bx[1] + x.hi).next_up(),
-                (bx[2] + y.lo).next_down(),
-                (bx[3] + y.hi).next_up(),
+                bx[0] + x - pad,
+                bx[1] + x + pad,
+                bx[2] + y - pad,
+                bx[3] + y + pad,
             ]
         };
         let nb = bounds(body);
         let pos = body.traj.position_at(t);
         self.bodies.iter().enumerate().find_map(|(i, o)| {
+            if !o.alive {
+                return None;
+            }
             let ob = bounds(o);
+            // (a box out of the doubles' range decides nothing)
+            let finite = ob.iter().chain(&nb).all(|c| c.is_finite());
             let meets =
-                o.alive && ob[0] <= nb[1] && nb[0] <= ob[1] && ob[2] <= nb[3] && nb[2] <= ob[3];
+                !finite || (ob[0] <= nb[1] && nb[0] <= ob[1] && ob[2] <= nb[3] && nb[2] <= ob[3]);
             (meets
                 && crate::geom::placed_polygons_intersect(
                     &body.shape,
