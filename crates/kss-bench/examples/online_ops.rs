@@ -33,9 +33,10 @@
 //! rounds; a removal takes a random moving polygon out; an insertion puts
 //! an octagon at a random place in the box, trying other places while
 //! `insert` refuses with [`kss::SimError::Touches`]: refused tries are
-//! timed and counted apart). An insertion builds the structure again, so
-//! the number of insertions is what `--insert-seconds` allows (estimated
-//! from the first 5), at most `ops`; the number of removals is at most the
+//! timed and counted apart). Where insertions are slow (brute's are
+//! `O(k)` pair computations each; a kinetic insertion that falls back to a
+//! rebuild is `O(k log k)`), the number of insertions is what
+//! `--insert-seconds` allows (estimated from the first 5), at most `ops`; the number of removals is at most the
 //! insertions plus `k/10`, so that the scene keeps at least 90% of its
 //! size. Brute's operations compute `O(k)` pair contact times each and its
 //! construction `O(k²)`: above `--brute-max-k` it is skipped with a note.

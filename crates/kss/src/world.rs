@@ -63,6 +63,14 @@ pub struct Body {
     pub centroid: Point,
     /// Pending re-anchoring at the end of a bridge (see module docs).
     anchor: Option<(Time, u64)>,
+    /// `traj`'s origin and velocity rounded to doubles, for box filters.
+    motion_f64: [f64; 4],
+}
+
+/// A trajectory's origin and velocity rounded to doubles.
+fn motion_f64(traj: &Trajectory) -> [f64; 4] {
+    let (o, v) = (traj.origin().to_f64(), traj.velocity().to_f64());
+    [o[0], o[1], v[0], v[1]]
 }
 
 impl Body {
@@ -98,7 +106,9 @@ impl Body {
         let frame = Arc::new(Frame::new(&traj, &shape));
         let area = shape.twice_area().to_f64() / 2.0;
         let centroid = shape.centroid();
+        let motion = motion_f64(&traj);
         Ok(Body {
+            motion_f64: motion,
             id: p.id.clone(),
             shape: Arc::new(shape),
             fixed: p.fixed,
@@ -109,6 +119,24 @@ impl Body {
             centroid,
             anchor: None,
         })
+    }
+
+    /// A box `[x_min, x_max, y_min, y_max]` that holds the polygon at time
+    /// `t`, in doubles, widened by far more than their rounding (a
+    /// coordinate out of the doubles' range makes it infinite or NaN: the
+    /// caller treats such a box as deciding nothing).
+    pub fn bounds_f64(&self, t: f64) -> [f64; 4] {
+        let [ox, oy, vx, vy] = self.motion_f64;
+        let bx = self.shape.bounds();
+        let (x, y) = (ox + vx * t, oy + vy * t);
+        let scale = ox.abs() + oy.abs() + (vx.abs() + vy.abs()) * t.abs();
+        let pad = 1e-9 * (scale + bx.iter().map(|c| c.abs()).sum::<f64>()) + 1e-300;
+        [
+            bx[0] + x - pad,
+            bx[1] + x + pad,
+            bx[2] + y - pad,
+            bx[3] + y + pad,
+        ]
     }
 
     /// The moving world position of vertex `i` on the current piece.
@@ -123,6 +151,7 @@ impl Body {
 
     fn set_traj(&mut self, traj: Trajectory) {
         self.frame = Arc::new(Frame::new(&traj, &self.shape));
+        self.motion_f64 = motion_f64(&traj);
         self.traj = traj;
     }
 }
@@ -520,19 +549,7 @@ impl World {
     /// by far more than their rounding), exact on the candidates.
     fn first_contact_with(&self, body: &Body, t: &Rational) -> Option<BodyId> {
         let tf = t.to_f64();
-        let bounds = |b: &Body| {
-            let (o, v) = (b.traj.origin().to_f64(), b.traj.velocity().to_f64());
-            let bx = b.shape.bounds();
-            let (x, y) = (o[0] + v[0] * tf, o[1] + v[1] * tf);
-            let scale = o[0].abs() + o[1].abs() + (v[0].abs() + v[1].abs()) * tf.abs();
-            let pad = 1e-9 * (scale + bx.iter().map(|c| c.abs()).sum::<f64>()) + 1e-300;
-            [
-                bx[0] + x - pad,
-                bx[1] + x + pad,
-                bx[2] + y - pad,
-                bx[3] + y + pad,
-            ]
-        };
+        let bounds = |b: &Body| b.bounds_f64(tf);
         let nb = bounds(body);
         let pos = body.traj.position_at(t);
         self.bodies.iter().enumerate().find_map(|(i, o)| {

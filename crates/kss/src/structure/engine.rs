@@ -380,13 +380,7 @@ fn plan_holds(world: &Geo, plan: &super::remove::RemovalPlan, now: &Time, at: &T
 /// checks everything exactly).
 fn nearest_body(world: &Geo, b: BodyId, now: &Time) -> Option<BodyId> {
     let t = now.to_f64();
-    let bounds = |c: BodyId| {
-        let body = world.body(c);
-        let (o, v) = (body.traj.origin().to_f64(), body.traj.velocity().to_f64());
-        let p = [o[0] + v[0] * t, o[1] + v[1] * t];
-        let bx = body.shape.bounds();
-        [bx[0] + p[0], bx[1] + p[0], bx[2] + p[1], bx[3] + p[1]]
-    };
+    let bounds = |c: BodyId| world.body(c).bounds_f64(t);
     let nb = bounds(b);
     let gap = |o: [f64; 4]| {
         let dx = (o[0] - nb[1]).max(nb[0] - o[1]).max(0.0);
@@ -1973,6 +1967,13 @@ impl Kinetic {
 
     /// The earliest queued failure time strictly after `now` (O(queue)).
     fn queue_times_after(&self, now: &Time) -> Option<Time> {
+        // the earliest queued time, unless failures of this very instant
+        // are still queued
+        if let Some((_, t, _, _)) = self.queue.peek() {
+            if t > now {
+                return Some(t.clone());
+            }
+        }
         self.queue
             .iter()
             .map(|(_, t, _, _)| t)
