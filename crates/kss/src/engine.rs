@@ -1020,28 +1020,8 @@ impl KineticEngine {
                 }
             }
             let responded = &self.responded;
-            // the reference's rule for a touching pair: a collision if the
-            // contact begins now, or, after the pair's collision response at
-            // this instant, if they still interpenetrate
-            let collides = |a: BodyId, b: BodyId, t: &Time| -> bool {
-                let Some(r) = t.as_rational() else {
-                    return true;
-                };
-                let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
-                let answered = responded.as_ref().is_some_and(|(rt, pairs, moved)| {
-                    rt == t
-                        && (pairs.contains(&(a.min(b), a.max(b)))
-                            || moved.contains(&a)
-                            || moved.contains(&b))
-                });
-                if answered {
-                    return interval.next_contact(r).as_ref() == Some(r);
-                }
-                match interval {
-                    crate::brute::ContactInterval::During { start: Some(s), .. } => s == *r,
-                    _ => false,
-                }
-            };
+            let collides =
+                |a: BodyId, b: BodyId, t: &Time| reference_collides(world, responded, (a, b), t);
             let geo = Geo {
                 world,
                 shapes: &self.shapes,
@@ -1167,6 +1147,23 @@ impl KineticEngine {
             }
         }
         if let Some(t) = &at {
+            // polygons that meet at one point with others need not share a
+            // face of the structure (three polygons meeting at a point, the
+            // third between the other two): every two polygons of the
+            // instant's contacts are tested by the reference's rule
+            let mut bodies: Vec<BodyId> = contacts.iter().flat_map(|&(a, b)| [a, b]).collect();
+            bodies.sort();
+            bodies.dedup();
+            for (i, &a) in bodies.iter().enumerate() {
+                for &b in &bodies[i + 1..] {
+                    if !contacts.contains(&(a, b))
+                        && world.pair_active(a, b)
+                        && reference_collides(world, &self.responded, (a, b), t)
+                    {
+                        contacts.push((a, b));
+                    }
+                }
+            }
             let repeats = match &self.contact_instant {
                 Some((u, n)) if u == t => n + 1,
                 _ => 1,
@@ -1181,39 +1178,21 @@ impl KineticEngine {
         Ok(at.map(|t| (t, contacts)))
     }
 
-    /// [`Finder::insert`] on the structure: the new body's approximation
-    /// (hierarchy) is the coarsest one, popped (with those of the bodies
-    /// near it, in place in the structure) until it is apart from every
-    /// other; then the region around the body nearest to it is
-    /// triangulated again with it ([`Kinetic::insert_body`], counted as
-    /// `local_insert`). Where that does not work, the structure is built
-    /// again, at `now` or, where polygons touch then, for just after it
-    /// (counted as `insert_rebuild`).
+    /// [`Finder::insert`] on the structure. Plain: the region around the
+    /// body nearest to the new one is triangulated again with it
+    /// ([`Kinetic::insert_body`], counted as `local_insert`). Where that
+    /// does not work, and always for the hierarchy (its new approximation
+    /// is the coarsest one, popped with the others until every two are
+    /// apart), the structure is built again for just after `now` (counted
+    /// as `insert_rebuild`; polygons may touch at `now`, after a collision
+    /// response, and where two stay in contact no structure exists and the
+    /// reference stands in, see `stand_in`). (An insertion in place with
+    /// the hierarchy leaves two approximations near the region overlapping
+    /// later without an event on one script of the long online sweep,
+    /// `approximations_overlap_after_calls_at_one_instant`, not understood
+    /// yet: the hierarchy builds again.)
     fn kinetic_insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
-        let r = world_time(now)?;
-        if self.hierarchical {
-            self.shapes.per.resize(world.len(), None);
-            self.shapes.per[b.index()] = refine::coarsest_shape(world.body(b));
-        }
-        let mut local = true;
-        if self.hierarchical {
-            let mut pops_in = LocalPops::new(&mut self.k, world, now);
-            let mut popper = |shapes: &mut Shapes, a: Att| {
-                if a.obj == Obj::Body(b) {
-                    Ok(refine::pop(shapes, a))
-                } else {
-                    pops_in.pop(shapes, a)
-                }
-            };
-            let pops = refine::separate_new(world, &mut self.shapes, b, r, &mut popper);
-            local = pops_in.local;
-            match pops {
-                Ok(n) if n > 0 => *self.k.counts.entry("pop").or_default() += n,
-                Ok(_) => {}
-                Err(_) => local = false,
-            }
-        }
-        if local {
+        if !self.hierarchical {
             let geo = Geo {
                 world,
                 shapes: &self.shapes,
@@ -1226,18 +1205,10 @@ impl KineticEngine {
                 return Ok(());
             }
         }
-        let with_new = |shapes: &Shapes| {
-            let mut shapes = shapes.clone();
-            if self.hierarchical {
-                shapes.per[b.index()] = refine::coarsest_shape(world.body(b));
-            }
-            shapes
-        };
-        // for just after `now` (polygons may touch at `now`, after a
-        // collision response); where two stay in contact no structure
-        // exists, and the reference stands in (see `stand_in`)
-        let mut shapes = with_new(&self.shapes);
+        let mut shapes = self.shapes.clone();
         if self.hierarchical {
+            shapes.per.resize(world.len(), None);
+            shapes.per[b.index()] = refine::coarsest_shape(world.body(b));
             if let Err(e) = refine::separate_all_strictly_after(world, &mut shapes, now) {
                 self.k.unbuildable = Some(now.clone());
                 return Err(RunError::Internal(e));
@@ -1327,6 +1298,32 @@ impl KineticEngine {
             self.refine_responded(world, now, &pairs)?;
         }
         Ok(())
+    }
+}
+
+/// The reference's rule for a pair that touches at `t`: a collision if the
+/// contact begins then, or, after the pair's collision response at this
+/// instant (see [`KineticEngine::responded`]), if they still interpenetrate.
+fn reference_collides(
+    world: &World,
+    responded: &Option<Responded>,
+    (a, b): (BodyId, BodyId),
+    t: &Time,
+) -> bool {
+    let Some(r) = t.as_rational() else {
+        return true;
+    };
+    let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
+    let answered = responded.as_ref().is_some_and(|(rt, pairs, moved)| {
+        rt == t
+            && (pairs.contains(&(a.min(b), a.max(b))) || moved.contains(&a) || moved.contains(&b))
+    });
+    if answered {
+        return interval.next_contact(r).as_ref() == Some(r);
+    }
+    match interval {
+        crate::brute::ContactInterval::During { start: Some(s), .. } => s == *r,
+        _ => false,
     }
 }
 

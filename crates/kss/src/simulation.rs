@@ -24,14 +24,15 @@
 //! ## Cost
 //!
 //! A velocity change reschedules the certificates of that polygon only. A
-//! removal triangulates again the region the polygon leaves, and an
-//! insertion the region around the polygon nearest to the new one, in place
-//! (counted in [`RunStats::local_removals`] and
-//! [`RunStats::local_insertions`]); where that region does not work, the
-//! structure is built again ([`RunStats::rebuilds`],
-//! [`RunStats::insert_rebuilds`]). Finding the nearest polygon and checking
-//! that an insertion touches nothing scan the polygons' bounding boxes in
-//! doubles (`O(k)`, a few microseconds per thousand polygons).
+//! removal triangulates again the region the polygon leaves, and, with the
+//! plain structure, an insertion the region around the polygon nearest to
+//! the new one, in place (counted in [`RunStats::local_removals`] and
+//! [`RunStats::local_insertions`]); where that region does not work, and
+//! for every insertion with the hierarchical structure, the structure is
+//! built again ([`RunStats::rebuilds`], [`RunStats::insert_rebuilds`]).
+//! Finding the nearest polygon and checking that an insertion touches
+//! nothing scan the polygons' bounding boxes in doubles (`O(k)`, a few
+//! microseconds per thousand polygons).
 
 use std::collections::{HashMap, HashSet};
 
