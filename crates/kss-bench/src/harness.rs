@@ -216,7 +216,7 @@ pub enum Executor {
     Subprocess {
         /// The executable.
         exe: PathBuf,
-        /// Arguments before the cell arguments (e.g. `["bench"]`).
+        /// Arguments before the cell arguments (none for `kss-bench`).
         args: Vec<String>,
     },
 }

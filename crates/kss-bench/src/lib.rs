@@ -23,10 +23,21 @@
 //! also measures the method's own peak memory), [`compare`] counts missed
 //! and wrong-time collisions against the exact reference, and [`report`]
 //! writes the Markdown table, the SVG plots and the machine description.
+//!
+//! The `kss-bench` binary (`src/main.rs`) only parses the arguments
+//! ([`cli`]) and calls [`command::bench`], which runs the harness and prints
+//! the report:
+//!
+//! ```sh
+//! cargo build --release -p kss-bench
+//! ./target/release/kss-bench --quick
+//! ```
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod cli;
+pub mod command;
 pub mod compare;
 pub mod exact;
 pub mod harness;

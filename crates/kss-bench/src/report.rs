@@ -290,7 +290,7 @@ fn accuracy_text(c: &CellResult, bounce: bool) -> String {
 /// The Markdown report.
 pub fn markdown(run: &BenchRun, m: &Machine) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "# kss bench results\n");
+    let _ = writeln!(s, "# kss-bench results\n");
     let _ = writeln!(
         s,
         "Machine: {} ({} logical cores), {:.1} GiB memory, {}; built with {} ({} profile); run on {} UTC.\n",
@@ -1542,7 +1542,7 @@ pub fn read_runs(paths: &[PathBuf]) -> std::io::Result<(BenchRun, Machine)> {
 
 /// Writes the run so far to `path` in `bench.json`'s format (through a
 /// temporary file, so that an interruption leaves the previous checkpoint
-/// whole): what `kss bench --resume` reads.
+/// whole): what `kss-bench --resume` reads.
 pub fn write_checkpoint(path: &Path, run: &BenchRun, m: &Machine) -> std::io::Result<()> {
     if let Some(dir) = path.parent() {
         fs::create_dir_all(dir)?;

@@ -537,7 +537,7 @@ impl Workload {
         }
     }
 
-    /// The workloads of `kss bench --quick`: tiny sizes.
+    /// The workloads of `kss-bench --quick`: tiny sizes.
     pub fn quick() -> Vec<Workload> {
         let mut w = Vec::new();
         for ratio in [10.0, 1e6] {
@@ -576,7 +576,7 @@ impl Workload {
         w
     }
 
-    /// The workloads of a full `kss bench` (the matrix).
+    /// The workloads of a full `kss-bench` run (the matrix).
     pub fn full() -> Vec<Workload> {
         let mut w = Vec::new();
         for ratio in [10.0, 1e2, 1e3, 1e4, 1e5, 1e6] {

@@ -32,9 +32,6 @@ pub enum Command {
     Render(RenderArgs),
     /// Run a built-in scene, print its collisions and draw it.
     Demo(DemoArgs),
-    /// Benchmark kss against the baselines (parry2d, kinetic sort-and-sweep)
-    /// on fixed workloads; writes a Markdown table and SVG plots.
-    Bench(BenchArgs),
 }
 
 /// The kinetic structure (`--structure`).
@@ -383,60 +380,4 @@ pub struct DemoArgs {
     /// The kinetic structure.
     #[arg(long, value_enum, default_value_t = StructureArg::Hierarchical)]
     pub structure: StructureArg,
-}
-
-/// `kss bench`.
-#[derive(Debug, Args)]
-pub struct BenchArgs {
-    /// Tiny workloads and a short budget (CI runs this; about a minute).
-    #[arg(long)]
-    pub quick: bool,
-    /// Results folder (bench.md, bench.json, plots, events).
-    #[arg(long, value_name = "DIR", default_value = "results")]
-    pub out: PathBuf,
-    /// Only these workloads: full names (e.g. gas-k1000-n8-c1000, see
-    /// --list), sets (cost: the four workloads of the cost per event, two
-    /// bounce swarms in a box, a remove swarm and a gas of 3-16-gons; perf:
-    /// cost, the 10^4-octagon gas and the 2^16-gon flypast) or families
-    /// (flypast, gas, cluster, swarm, grazing, parallel, far, walls, gasmix).
-    #[arg(long, value_name = "NAME", num_args = 1..)]
-    pub workload: Vec<String>,
-    /// Methods, comma-separated: brute, plain, hierarchical, sweep,
-    /// parry-toi, parry-step:N (fixed time step 1/N). Default: all, with
-    /// parry-step:30 and parry-step:240.
-    #[arg(long, value_name = "LIST", value_delimiter = ',')]
-    pub methods: Vec<String>,
-    /// Time budget per cell in seconds (default 600, quick 5).
-    #[arg(long, value_name = "SECONDS", value_parser = parse_positive)]
-    pub budget: Option<f64>,
-    /// Also time the construction of the library's structures: each of
-    /// their cells first runs the structure up to the smallest positive
-    /// double (world, validation, structure and certificates; no events),
-    /// reported as `build`.
-    #[arg(long)]
-    pub build_time: bool,
-    /// Run nothing: write the report (bench.md, bench.json, plots) into
-    /// --out from the bench.json files of earlier runs, merged (a later
-    /// file's cell of the same workload and method replaces an earlier one);
-    /// with --workload, only those workloads.
-    #[arg(long, value_name = "FILE", num_args = 1.., conflicts_with_all = ["list", "cell"])]
-    pub report_from: Vec<PathBuf>,
-    /// Go on with an interrupted run: FILE is the checkpoint it wrote
-    /// (`<out>/checkpoint.json`, rewritten after every workload). Its
-    /// finished workloads are kept as they are, the others run; the budget
-    /// and the methods must be the same. Use the same --out to keep its
-    /// events files. It must be the same binary on the same machine, with
-    /// the same workloads, methods, budget, mode and --build-time.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["list", "cell", "report_from"])]
-    pub resume: Option<PathBuf>,
-    /// Print the workloads and methods that would run, and exit.
-    #[arg(long)]
-    pub list: bool,
-    /// Internal: run one cell WORKLOAD/METHOD in this process (the parent
-    /// re-invokes the binary so that it can time it out and measure memory).
-    #[arg(long, hide = true, value_name = "WORKLOAD/METHOD")]
-    pub cell: Option<String>,
-    /// Internal: where the cell writes its events.
-    #[arg(long, hide = true, value_name = "FILE", requires = "cell")]
-    pub cell_events: Option<PathBuf>,
 }

@@ -1,8 +1,8 @@
-//! Debugging aid: write the scenario of a `kss bench` workload (by its full
-//! name, as `kss bench --list` prints it) as JSON on standard output, to run
-//! or profile one cell by hand.
+//! Debugging aid: write the scenario of a `kss-bench` workload (by its full
+//! name, as `kss-bench --list` prints it) as JSON on standard output, to run
+//! or profile one cell by hand (`kss run cluster.json`).
 //!
-//! `cargo run -p kss-cli --example workload -- cluster-k1000 > cluster.json`
+//! `cargo run -p kss-bench --example workload -- cluster-k1000 > cluster.json`
 fn main() {
     let a: Vec<String> = std::env::args().collect();
     if a.len() != 2 {

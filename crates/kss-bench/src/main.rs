@@ -1,0 +1,14 @@
+//! `kss-bench`: kss against the baselines on fixed workloads.
+//! Run `kss-bench --help` for the options.
+
+#![forbid(unsafe_code)]
+
+use clap::Parser;
+
+fn main() {
+    let args = kss_bench::cli::BenchArgs::parse();
+    if let Err(e) = kss_bench::command::bench(&args) {
+        eprintln!("kss-bench: error: {e}");
+        std::process::exit(e.exit_code());
+    }
+}

@@ -1,0 +1,193 @@
+//! Tests of the `kss-bench` binary: workload selection, a closed pipe,
+//! reports of earlier runs, checkpoints and resuming.
+
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+fn kss_bench() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_kss-bench"))
+}
+
+fn run_bench(args: &[&str]) -> Output {
+    kss_bench()
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run kss-bench")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("stdout is UTF-8")
+}
+
+/// A fresh directory for one test's files.
+fn temp_dir() -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "kss-bench-cli-test-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::SeqCst)
+    ));
+    std::fs::create_dir_all(&dir).expect("create temp dir");
+    dir
+}
+
+#[test]
+fn bench_list_expands_the_workload_sets() {
+    let o = run_bench(&["--list", "--workload", "cost"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let workloads: Vec<String> = stdout(&o)
+        .lines()
+        .filter_map(|l| l.strip_prefix("workload "))
+        .map(String::from)
+        .collect();
+    assert_eq!(
+        workloads,
+        [
+            "walls-k1000-n16-bounce",
+            "walls-k300-n256-bounce",
+            "walls-k2000-n64-remove",
+            "gasmix-k1000-n3to16",
+        ]
+    );
+    let o = run_bench(&["--list", "--workload", "perf", "walls-k30-n16-remove"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert_eq!(
+        out.lines().filter(|l| l.starts_with("workload ")).count(),
+        7
+    );
+    assert!(out.contains("workload gas-k10000-n8-c1000\n"));
+    assert!(out.contains("workload flypast-n65536-r1e3\n"));
+    assert!(out.contains("workload walls-k30-n16-remove\n"));
+    // families pick among the defaults of the mode
+    let o = run_bench(&["--list", "--quick", "--workload", "walls", "gasmix"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).starts_with("workload walls-k30-n16-bounce\nworkload gasmix-k50-n3to16\n"));
+    let o = run_bench(&["--list", "--workload", "walls-k30-n16-stop"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn bench_list_survives_a_closed_pipe() {
+    // `kss-bench --list | head -1`: the reader is gone before the list is
+    // written (the process takes longer to start than the drop below)
+    let mut child = kss_bench()
+        .args(["--list"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(0));
+}
+
+#[test]
+fn bench_report_from_keeps_only_the_workloads_named() {
+    // two tiny workloads with the reference alone, then a report of one
+    let dir = temp_dir();
+    let run = dir.join("run");
+    let o = run_bench(&[
+        "--quick",
+        "--methods",
+        "brute",
+        "--workload",
+        "flypast-n16-r1e1",
+        "flypast-n16-r1e6",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // `kss-bench --report-from` of that run, keeping `workload`, into `out`
+    let report_of = |workload: &str, out: &std::path::Path| {
+        run_bench(&[
+            "--report-from",
+            run.join("bench.json").to_str().unwrap(),
+            "--workload",
+            workload,
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let report = dir.join("report");
+    let o = report_of("flypast-n16-r1e6", &report);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let md = std::fs::read_to_string(report.join("bench.md")).unwrap();
+    assert!(md.contains("flypast-n16-r1e6"), "{md}");
+    assert!(!md.contains("flypast-n16-r1e1"), "{md}");
+    // a name that the runs do not hold is an error, not an empty report
+    let o = report_of("gas-k30-n8-c100", &dir.join("none"));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
+fn bench_writes_a_checkpoint_and_resumes_from_it() {
+    let dir = temp_dir();
+    let out = dir.join("run");
+    let bench = |extra: &[&str]| {
+        let mut args = vec![
+            "--quick",
+            "--methods",
+            "brute,sweep",
+            "--workload",
+            "flypast-n16-r1e1",
+            "flypast-n16-r1e6",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        run_bench(&args)
+    };
+    let o = bench(&[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let checkpoint = out.join("checkpoint.json");
+    let text = std::fs::read_to_string(&checkpoint).unwrap();
+    assert!(text.contains("flypast-n16-r1e6"), "{text}");
+    // resumed from the finished run's checkpoint: nothing runs again
+    let o = bench(&["--resume", checkpoint.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert_eq!(err.matches("kept from the run resumed").count(), 2, "{err}");
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("resumed 1 time"), "{md}");
+    // a checkpoint of other methods is refused
+    let o = run_bench(&[
+        "--quick",
+        "--methods",
+        "brute",
+        "--workload",
+        "flypast-n16-r1e1",
+        "--resume",
+        checkpoint.to_str().unwrap(),
+        "--out",
+        dir.join("other").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("same methods"), "{}", stderr(&o));
+    // and so is one of other workloads (its cells would be dropped)
+    let o = run_bench(&[
+        "--quick",
+        "--methods",
+        "brute,sweep",
+        "--workload",
+        "flypast-n16-r1e1",
+        "--resume",
+        checkpoint.to_str().unwrap(),
+        "--out",
+        dir.join("other").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("same methods, workloads"),
+        "{}",
+        stderr(&o)
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
