@@ -37,7 +37,7 @@ pub(crate) enum Counter {
     Walks,
 }
 
-/// The names of the counters, in the order of [`Counter`].
+/// The names of the counters, in the order of the counters' indices.
 pub const NAMES: [&str; 10] = [
     "turns_filtered",
     "turns_undecided",
