@@ -74,6 +74,9 @@ pub enum SimError {
     /// A fixed polygon's velocity cannot change.
     #[error("polygon {0:?} is fixed: its velocity cannot change")]
     Fixed(String),
+    /// The polygon to insert has an empty id.
+    #[error("the polygon to insert has an empty id; give it a unique non-empty id")]
+    EmptyId,
     /// The id is taken (ids are never reused, not even after a removal).
     #[error("a polygon with the id {0:?} is or was in the scene; ids are never reused")]
     DuplicateId(String),
@@ -523,7 +526,7 @@ impl Simulation {
     pub fn insert(&mut self, polygon: &PolygonSpec) -> Result<(), SimError> {
         self.check()?;
         if polygon.id.is_empty() {
-            return Err(ScenarioError::EmptyInsertedId { index: 0 }.into());
+            return Err(SimError::EmptyId);
         }
         if self.ids.contains_key(&polygon.id) {
             return Err(SimError::DuplicateId(polygon.id.clone()));

@@ -78,6 +78,7 @@ fn variant(e: &SimError) -> &'static str {
         SimError::UnknownPolygon(_) => "UnknownPolygon",
         SimError::NotPresent(_) => "NotPresent",
         SimError::Fixed(_) => "Fixed",
+        SimError::EmptyId => "EmptyId",
         SimError::DuplicateId(_) => "DuplicateId",
         SimError::Touches { .. } => "Touches",
         SimError::BadTime { .. } => "BadTime",
@@ -1174,7 +1175,7 @@ fn bad_insertions_are_refused() {
         "empty id",
         false,
         |s, _| s.insert(&square("", [0.0, 20.0], [0.0, 0.0])),
-        |e| *e == SimError::Invalid(ScenarioError::EmptyInsertedId { index: 0 }),
+        |e| *e == SimError::EmptyId,
     );
     refused(
         "fixed with a velocity",
