@@ -43,7 +43,7 @@ use crate::geom::Point;
 use crate::num::{Rational, Time};
 use crate::runner::{CollisionEvent, RunStats};
 use crate::scenario::{CollisionMode, PolygonSpec, Scenario, ScenarioError};
-use crate::world::{BodyId, World};
+use crate::world::{BodyId, Refused, World};
 
 /// Options of a [`Simulation`].
 #[derive(Clone, Debug, Default)]
@@ -534,8 +534,8 @@ impl Simulation {
         let now = self.now_rational()?;
         let b = match self.world.insert(polygon, &now) {
             Ok(b) => b,
-            Err(Err(e)) => return Err(e.into()),
-            Err(Ok(other)) => {
+            Err(Refused::Invalid(e)) => return Err(e.into()),
+            Err(Refused::Touches(other)) => {
                 return Err(SimError::Touches {
                     inserted: polygon.id.clone(),
                     present: self.world.body(other).id.clone(),

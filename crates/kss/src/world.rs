@@ -176,6 +176,15 @@ struct ContactGeometry {
     features: Vec<(Result<usize, usize>, usize)>,
 }
 
+/// Why [`World::insert`] refused a polygon.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Refused {
+    /// It breaks a rule of the contract.
+    Invalid(ScenarioError),
+    /// It touches or overlaps this alive body.
+    Touches(BodyId),
+}
+
 /// Ids of bodies whose trajectory changed, for the structure to update.
 pub type Changed = Vec<BodyId>;
 
@@ -573,29 +582,22 @@ impl World {
     }
 
     /// Add polygon `p` at time `t` (its `position` given at `t`), unless it
-    /// breaks a rule of the contract or touches or overlaps an alive body
-    /// (`Err(Ok(that body))`); nothing changes then. The caller checks that
-    /// its id is new.
-    pub(crate) fn insert(
-        &mut self,
-        p: &PolygonSpec,
-        t: &Rational,
-    ) -> Result<BodyId, Result<BodyId, ScenarioError>> {
-        let body = Body::new(p, t).map_err(Err)?;
+    /// breaks a rule of the contract or touches or overlaps an alive body;
+    /// nothing changes then. The caller checks that its id is new.
+    pub(crate) fn insert(&mut self, p: &PolygonSpec, t: &Rational) -> Result<BodyId, Refused> {
+        let body = Body::new(p, t).map_err(Refused::Invalid)?;
         if let Some(other) = self.first_contact_with(&body, t) {
-            return Err(Ok(other));
+            return Err(Refused::Touches(other));
         }
         self.bodies.push(body);
         Ok(BodyId(self.bodies.len() as u32 - 1))
     }
 
-    /// Remove one body at once, fixed ones included; whether it was alive.
-    pub(crate) fn remove_any(&mut self, id: BodyId) -> bool {
+    /// Remove one body at once, fixed ones included.
+    pub(crate) fn remove_any(&mut self, id: BodyId) {
         let b = &mut self.bodies[id.index()];
-        let was = b.alive;
         b.alive = false;
         b.anchor = None;
-        was
     }
 
     /// From time `t` on, body `id` moves with velocity `v`, its position
