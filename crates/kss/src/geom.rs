@@ -691,21 +691,43 @@ where
 /// sets), exactly, in `O(n + m)`.
 pub fn placed_polygons_intersect(a: &BodyPolygon, pa: &Point, b: &BodyPolygon, pb: &Point) -> bool {
     let d = pa.sub(pb);
-    let mut inside = true;
-    let exp = for_each_minkowski_edge(a, b, |_| {});
-    let unit = Rational::from_dyadic(Int::ONE, exp);
+    let exp = a.exp.min(b.exp);
+    // each edge's test `n · d <= h · 2^exp` on enclosures first: a
+    // separating edge ends the walk, an edge that certainly holds is done,
+    // and only the others are tested exactly
+    let (dx, dy) = (d.x.interval(), d.y.interval());
+    let unit_f64 = (-1000..=1000)
+        .contains(&exp)
+        .then(|| Interval::point(2f64.powi(exp as i32)));
+    let mut apart = false;
+    let mut undecided: Vec<MinkowskiEdge> = Vec::new();
     for_each_minkowski_edge(a, b, |e| {
-        if inside {
-            let lhs =
-                d.x.mul(&Rational::from_int(e.nx.clone()))
-                    .add(&d.y.mul(&Rational::from_int(e.ny.clone())));
-            let rhs = Rational::from_int(e.h).mul(&unit);
-            if lhs > rhs {
-                inside = false;
+        if apart {
+            return;
+        }
+        if let Some(unit) = unit_f64 {
+            let lhs = dx * Interval::of_int(&e.nx) + dy * Interval::of_int(&e.ny);
+            let rhs = Interval::of_int(&e.h) * unit;
+            if lhs.lo > rhs.hi {
+                apart = true;
+                return;
+            }
+            if lhs.hi <= rhs.lo {
+                return;
             }
         }
+        undecided.push(e);
     });
-    inside
+    if apart {
+        return false;
+    }
+    let unit = Rational::from_dyadic(Int::ONE, exp);
+    undecided.into_iter().all(|e| {
+        let lhs =
+            d.x.mul(&Rational::from_int(e.nx))
+                .add(&d.y.mul(&Rational::from_int(e.ny)));
+        lhs <= Rational::from_int(e.h).mul(&unit)
+    })
 }
 
 #[cfg(test)]

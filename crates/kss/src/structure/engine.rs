@@ -1051,7 +1051,25 @@ impl Kinetic {
     /// a motion change that parts them must give the corridor its
     /// certificates anew.
     fn resting_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
-        let meet = |x: Att, y: Att| super::faces::coincide_at(world, x, y, now);
+        // (two points of two bodies whose boxes are apart at `now` do not
+        // meet: the boxes first, each computed once)
+        let ti = now.interval();
+        let boxes: std::cell::RefCell<FastMap<BodyId, Option<[Interval; 2]>>> = Default::default();
+        let seen = |b: BodyId| {
+            *boxes
+                .borrow_mut()
+                .entry(b)
+                .or_insert_with(|| world.seen_box(b, ti))
+        };
+        let apart = |x: Obj, y: Obj| match (x, y) {
+            (Obj::Body(p), Obj::Body(q)) if p != q => match (seen(p), seen(q)) {
+                (Some(e), Some(f)) => !e[0].overlaps(&f[0]) || !e[1].overlaps(&f[1]),
+                _ => false,
+            },
+            _ => false,
+        };
+        let meet =
+            |x: Att, y: Att| !apart(x.obj, y.obj) && super::faces::coincide_at(world, x, y, now);
         let owners: BTreeSet<CorrId> = ps
             .iter()
             .filter_map(|p| self.certs.get(p))
@@ -1074,6 +1092,9 @@ impl Kinetic {
         let mut out = BTreeSet::new();
         for k in cands {
             let c = &self.kss.corrs[k.0 as usize];
+            if apart(c.a, c.b) {
+                continue;
+            }
             let triples: Vec<[Att; 3]> = if c.b == Obj::Omega {
                 self.kss
                     .hull_turns(world, k)

@@ -17,6 +17,10 @@ pub fn turn_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> Sign {
         Obj::Body(_) => world.point(a),
         Obj::Omega => unreachable!("turn_after on ω"),
     };
+    // (two of the points are one moving point: zero for ever)
+    if u == v || v == w || u == w {
+        return Sign::Zero;
+    }
     if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
         return s;
     }
@@ -159,8 +163,13 @@ pub fn coincide_at(world: &Geo, x: Att, y: Att, t: &Time) -> bool {
     if x.obj == y.obj || x.is_omega() || y.is_omega() {
         return false;
     }
-    if world.dot_filtered(y, x, y, t.interval()).is_some() {
-        return false;
+    // (two enclosures at `t` that are apart in one coordinate: the cheap
+    // test)
+    let ti = t.interval();
+    if let (Some(ex), Some(ey)) = (world.enclose(x, ti), world.enclose(y, ti)) {
+        if ex.iter().zip(&ey).any(|(a, b)| !a.overlaps(b)) {
+            return false;
+        }
     }
     let (p, q) = (lin(world, x), lin(world, y));
     crate::motion::dot_poly(&p, &q, &q).sign_at(t) == Sign::Zero

@@ -400,7 +400,14 @@ impl<'a> Geo<'a> {
         let Obj::Body(b) = a.obj else {
             return None;
         };
-        let version = self.shapes.approx(b).map_or(0, |ap| ap.exposed.version());
+        let Some(ap) = self.shapes.approx(b) else {
+            // a real vertex: a table lookup and two products, cheaper than
+            // the cache
+            let body = self.world.body(b);
+            let [x, y] = body.shape.int_vertex_enclosure(a.v as usize);
+            return Some(body.frame.linear_enclosure(x, y));
+        };
+        let version = ap.exposed.version();
         linear_cached(self.world.body(b).frame.uid(), (version, a.v), || {
             let (b, key) = self.linear_key(a)?;
             self.linear_fresh(b, key)
@@ -469,6 +476,40 @@ impl<'a> Geo<'a> {
     pub fn enclose(&self, a: Att, t: Interval) -> Option<[Interval; 2]> {
         let [x0, x1, y0, y1] = self.enclose_linear(a)?;
         Some([x0 + x1 * t, y0 + y1 * t])
+    }
+
+    /// A box `[x, y]` that holds, at any time in `t`, every vertex that
+    /// body `b` is seen with: its polygon's bounding box placed by the
+    /// frame (the real polygon), or the hull of its approximation
+    /// vertices' enclosures; `None` when an enclosure is not finite.
+    pub fn seen_box(&self, b: BodyId, t: Interval) -> Option<[Interval; 2]> {
+        let body = self.world.body(b);
+        let boxed = match self.shapes.approx(b) {
+            None => {
+                let [x0, x1, y0, y1] = body.shape.bounds();
+                let o = Interval::point(0.0);
+                let [px, py] = body.frame.enclose(o, o, t);
+                let p = Interval::point;
+                let (lx, hx) = ((px + p(x0)).lo, (px + p(x1)).hi);
+                let (ly, hy) = ((py + p(y0)).lo, (py + p(y1)).hi);
+                [Interval { lo: lx, hi: hx }, Interval { lo: ly, hi: hy }]
+            }
+            Some(ap) => {
+                let mut out: Option<[Interval; 2]> = None;
+                for k in ap.exposed.iter().filter(|&k| !ap.hidden(k)) {
+                    let e = self.enclose(Att::vertex(b, k as u32), t)?;
+                    out = Some(match out {
+                        None => e,
+                        Some(o) => [o[0].hull(&e[0]), o[1].hull(&e[1])],
+                    });
+                }
+                out?
+            }
+        };
+        boxed
+            .iter()
+            .all(|i| i.lo.is_finite() && i.hi.is_finite())
+            .then_some(boxed)
     }
 
     /// The sign of `orient(u, v, w)` at a time in `t` if the f64 filter

@@ -95,6 +95,10 @@ fn lin(world: &Geo, a: Att) -> crate::motion::LinearPoint {
 
 /// The sign of `orient(u, v, w)` just on `side` of `t`.
 pub fn turn_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sign {
+    // (two of the points are one moving point: zero for ever)
+    if u == v || v == w || u == w {
+        return Sign::Zero;
+    }
     if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
         return s;
     }
@@ -115,6 +119,11 @@ pub fn between_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
 
 /// Whether `v` is strictly between `u` and `w` just on `side` of `t`.
 pub fn between_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> bool {
+    // (two of the points are one moving point: `(u − v)·(w − v)` is a
+    // square or zero for ever)
+    if u == v || v == w || u == w {
+        return false;
+    }
     if let Some(s) = world.dot_filtered(u, v, w, t.interval()) {
         return s == Sign::Negative;
     }
