@@ -62,6 +62,18 @@ impl Rational {
         if num.is_zero() {
             return Rational::zero();
         }
+        // a power-of-two denominator (dyadic values: inputs, and positions
+        // at dyadic times) is reduced by shifts, without a gcd
+        if den.unsigned_abs_ref().is_power_of_two() {
+            let tz = num.trailing_zeros().unwrap_or(0);
+            let dz = den.trailing_zeros().unwrap_or(0);
+            let k = tz.min(dz);
+            if k > 0 {
+                num >>= k;
+                den >>= k;
+            }
+            return Rational { num, den };
+        }
         let g = Int::from((&num).gcd(&den));
         if g != Int::ONE {
             num /= &g;

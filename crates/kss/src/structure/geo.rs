@@ -20,48 +20,79 @@ use crate::motion::{Frame, LinearPoint};
 use crate::num::{Interval, Rational, Sign, Time};
 use crate::world::{BodyId, World};
 
-/// How many linear enclosures [`linear_cached`] keeps (a power of two).
-const LINEAR_CACHE: usize = 1 << 12;
+/// The most entries an [`EnclosureMemo`] has (a power of two).
+const MEMO_MAX: usize = 1 << 10;
 
-/// One entry of the enclosure cache: frame uid (0: empty), the vertex id
-/// with the version of the exposed set it is read in (0 for a body seen as
-/// its real polygon), and the enclosure.
-type LinearEntry = (u64, (u64, u32), [Interval; 4]);
+/// One entry of an [`EnclosureMemo`]: the exposed id (`u32::MAX`: empty)
+/// and the enclosures of its position at time 0 (the velocity terms are the
+/// frame's own).
+type MemoEntry = (u32, [Interval; 2]);
 
-thread_local! {
-    /// The linear enclosures of recently seen points, direct-mapped by
-    /// their key: at an event the same few points are enclosed for many
-    /// predicates. Neither a frame's uid nor an exposed set's version is
-    /// ever reused, so an entry is never stale: a motion change makes a
-    /// new frame, and a pop or a merge (which changes which body-frame
-    /// point an exposed id names) a new version.
-    static LINEAR: std::cell::RefCell<[LinearEntry; LINEAR_CACHE]> = const {
-        std::cell::RefCell::new([(0, (0, 0), [Interval { lo: 0.0, hi: 0.0 }; 4]); LINEAR_CACHE])
-    };
+/// The linear enclosures of a body's recently seen approximation vertices,
+/// direct-mapped by exposed id, for one frame and one version of the
+/// exposed set (the memo's key): at an event the same few points are
+/// enclosed for many predicates. Neither a frame's uid nor an exposed set's
+/// version is ever reused, so an entry is never stale: a motion change makes
+/// a new frame, and a pop or a merge (which changes which body-frame point
+/// an exposed id names) a new version, and the memo starts again under the
+/// new key. A clone starts empty.
+pub struct EnclosureMemo {
+    key: std::cell::Cell<(u64, u64)>,
+    slots: Box<[std::cell::Cell<MemoEntry>]>,
 }
 
-/// The linear enclosure of the point `key` of the frame `uid`, from the
-/// cache or from `compute` (then kept, if `Some`).
-fn linear_cached(
-    uid: u64,
-    key: (u64, u32),
-    compute: impl FnOnce() -> Option<[Interval; 4]>,
-) -> Option<[Interval; 4]> {
-    let h = uid
-        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        .wrapping_add(key.0.wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
-        .wrapping_add(u64::from(key.1).wrapping_mul(0x1656_67B1_9E37_79F9));
-    let slot = (h >> 40) as usize & (LINEAR_CACHE - 1);
-    let hit = LINEAR.with(|c| {
-        let e = c.borrow()[slot];
-        (e.0 == uid && e.1 == key).then_some(e.2)
-    });
-    if hit.is_some() {
-        return hit;
+const EMPTY_ENTRY: MemoEntry = (u32::MAX, [Interval { lo: 0.0, hi: 0.0 }; 2]);
+
+impl EnclosureMemo {
+    /// An empty memo sized for an approximation of `n` vertices (at least
+    /// 4 and at most [`MEMO_MAX`] entries).
+    pub fn new(n: usize) -> EnclosureMemo {
+        let n = n.next_power_of_two().clamp(4, MEMO_MAX);
+        EnclosureMemo {
+            key: std::cell::Cell::new((0, 0)),
+            slots: (0..n).map(|_| std::cell::Cell::new(EMPTY_ENTRY)).collect(),
+        }
     }
-    let e = compute()?;
-    LINEAR.with(|c| c.borrow_mut()[slot] = (uid, key, e));
-    Some(e)
+
+    /// The slot of exposed id `k` (a multiplicative hash: the ids of a
+    /// coarse approximation are multiples of a power of two).
+    fn slot(&self, k: u32) -> &std::cell::Cell<MemoEntry> {
+        let bits = self.slots.len().trailing_zeros();
+        &self.slots[(k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize]
+    }
+
+    fn get(&self, key: (u64, u64), k: u32) -> Option<[Interval; 2]> {
+        if self.key.get() != key {
+            return None;
+        }
+        let e = self.slot(k).get();
+        (e.0 == k).then_some(e.1)
+    }
+
+    fn put(&self, key: (u64, u64), k: u32, e: [Interval; 2]) {
+        if self.key.get() != key {
+            self.slots.iter().for_each(|s| s.set(EMPTY_ENTRY));
+            self.key.set(key);
+        }
+        self.slot(k).set((k, e));
+    }
+}
+
+impl Clone for EnclosureMemo {
+    fn clone(&self) -> EnclosureMemo {
+        EnclosureMemo {
+            key: std::cell::Cell::new((0, 0)),
+            slots: (0..self.slots.len())
+                .map(|_| std::cell::Cell::new(EMPTY_ENTRY))
+                .collect(),
+        }
+    }
+}
+
+impl std::fmt::Debug for EnclosureMemo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "EnclosureMemo({} slots)", self.slots.len())
+    }
 }
 
 /// A vertex as the structure sees it, held compactly to compute its moving
@@ -102,6 +133,8 @@ pub struct Approx {
     pub array: Arc<EdgeArray>,
     /// The exposed indices: the current approximation.
     pub exposed: Exposed,
+    /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
+    pub memo: EnclosureMemo,
 }
 
 /// How each body is seen: the real polygon, or an approximation.
@@ -111,7 +144,11 @@ pub struct Shapes {
     pub per: Vec<Option<Approx>>,
 }
 
-static REAL: Shapes = Shapes { per: Vec::new() };
+thread_local! {
+    /// Every body seen as its real polygon: the empty [`Shapes`] (one per
+    /// thread: a memo's cells are not shared between threads).
+    static REAL: &'static Shapes = Box::leak(Box::default());
+}
 
 impl Approx {
     /// Whether exposed id `k` is hidden: its edge has length zero (three
@@ -149,7 +186,7 @@ impl Approx {
 impl Shapes {
     /// Every body seen as its real polygon (the plain structure).
     pub fn real() -> &'static Shapes {
-        &REAL
+        REAL.with(|r| *r)
     }
 
     /// The approximation of body `b`, if it is seen through one.
@@ -407,11 +444,16 @@ impl<'a> Geo<'a> {
             let [x, y] = body.shape.int_vertex_enclosure(a.v as usize);
             return Some(body.frame.linear_enclosure(x, y));
         };
-        let version = ap.exposed.version();
-        linear_cached(self.world.body(b).frame.uid(), (version, a.v), || {
-            let (b, key) = self.linear_key(a)?;
-            self.linear_fresh(b, key)
-        })
+        let frame = &self.world.body(b).frame;
+        let key = (frame.uid(), ap.exposed.version());
+        if let Some([x0, y0]) = ap.memo.get(key, a.v) {
+            let [_, x1, _, y1] = frame.linear_enclosure(Interval::point(0.0), Interval::point(0.0));
+            return Some([x0, x1, y0, y1]);
+        }
+        let (b, at) = self.linear_key(a)?;
+        let e = self.linear_fresh(b, at)?;
+        ap.memo.put(key, a.v, [e[0], e[2]]);
+        Some(e)
     }
 
     /// What point `a` is: its body's [`Frame::uid`] and its body-frame

@@ -53,12 +53,24 @@ pub enum Obj {
 }
 
 /// A point a bridge can end at: a vertex of a body, or `ω`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Att {
     /// The object.
     pub obj: Obj,
     /// The vertex index (0 for `ω`).
     pub v: u32,
+}
+
+/// One word per point (the certificate maps hash triples of them on every
+/// event): the body index (`u32::MAX` for `ω`) and the vertex id.
+impl std::hash::Hash for Att {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        let obj = match self.obj {
+            Obj::Body(b) => b.0,
+            Obj::Omega => u32::MAX,
+        };
+        state.write_u64((u64::from(obj) << 32) | u64::from(self.v));
+    }
 }
 
 impl Att {

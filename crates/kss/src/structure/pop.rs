@@ -576,7 +576,7 @@ impl Kss {
             for i in 0..3 {
                 let (x, p, q) = (c[i], c[(i + 1) % 3], c[(i + 2) % 3]);
                 if let (Obj::Body(b), false, false) = (x.obj, p.is_omega(), q.is_omega()) {
-                    if segment_crosses(geo, b, p, q, &sign) {
+                    if segment_crosses(geo, (b, x), p, q, &sign) {
                         #[cfg(feature = "trace")]
                         eprintln!("  triangle {}: side {p:?}-{q:?} crosses body {}", ti.0, b.0);
                         return false;
@@ -622,13 +622,31 @@ impl Kss {
 /// body's edge lines.
 fn segment_crosses(
     geo: &Geo,
-    b: crate::world::BodyId,
+    (b, x): (crate::world::BodyId, Att),
     p: Att,
     q: Att,
     sign: &dyn Fn([Att; 3]) -> Sign,
 ) -> bool {
     let ring: Vec<Att> = geo.ids(b).into_iter().map(|v| Att::vertex(b, v)).collect();
     let m = ring.len();
+    // an edge line (counter-clockwise ring: outside is negative) with both
+    // ends of the segment on its closed outer side: no crossing. Looked for
+    // first, from the edges at `x` (the triangle's corner on `b`, facing the
+    // segment) outwards, where one almost always is
+    let at = ring.iter().position(|&v| v == x).unwrap_or(0);
+    let separating = (0..m)
+        .map(|d| {
+            // d = 0, 1, 2, 3, …: the edges at `at`, alternately after and before
+            let off = if d % 2 == 0 { d / 2 } else { m - 1 - d / 2 };
+            (at + off) % m
+        })
+        .any(|j| {
+            let (u, w) = (ring[j], ring[(j + 1) % m]);
+            sign([u, w, p]) != Sign::Positive && sign([u, w, q]) != Sign::Positive
+        });
+    if separating {
+        return false;
+    }
     // the segment's line: the body on one closed side
     let (mut pos, mut neg) = (false, false);
     for &v in &ring {
@@ -637,16 +655,11 @@ fn segment_crosses(
             Sign::Negative => neg = true,
             Sign::Zero => {}
         }
+        if pos && neg {
+            return true;
+        }
     }
-    if !(pos && neg) {
-        return false;
-    }
-    // an edge line (counter-clockwise ring: outside is negative) with both
-    // ends of the segment on its closed outer side
-    !(0..m).any(|j| {
-        let (u, w) = (ring[j], ring[(j + 1) % m]);
-        sign([u, w, p]) != Sign::Positive && sign([u, w, q]) != Sign::Positive
-    })
+    false
 }
 
 #[cfg(test)]

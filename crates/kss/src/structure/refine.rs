@@ -37,7 +37,12 @@ pub fn coarsest_shape(b: &Body) -> Option<Approx> {
     b.alive.then(|| {
         let array = Arc::new(EdgeArray::new(&b.shape));
         let exposed = array.coarsest();
-        Approx { array, exposed }
+        let memo = super::geo::EnclosureMemo::new(exposed.len());
+        Approx {
+            array,
+            exposed,
+            memo,
+        }
     })
 }
 
