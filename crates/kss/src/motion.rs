@@ -22,15 +22,22 @@ pub struct Trajectory {
 impl Trajectory {
     /// The piece that is at `position` at time `time` and moves with `velocity`.
     pub fn through(time: &Rational, position: &Point, velocity: Point) -> Trajectory {
+        let t = time.neg();
         Trajectory {
-            origin: position.sub(&velocity.scale(time)),
+            origin: Point {
+                x: position.x.mul_add(&velocity.x, &t),
+                y: position.y.mul_add(&velocity.y, &t),
+            },
             velocity,
         }
     }
 
     /// Position at time `t`.
     pub fn position_at(&self, t: &Rational) -> Point {
-        self.origin.add(&self.velocity.scale(t))
+        Point {
+            x: self.origin.x.mul_add(&self.velocity.x, t),
+            y: self.origin.y.mul_add(&self.velocity.y, t),
+        }
     }
 
     /// The velocity.

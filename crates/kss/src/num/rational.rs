@@ -153,6 +153,16 @@ impl Rational {
         )
     }
 
+    /// `self + b·c`, reduced once (not after the product and again after
+    /// the sum).
+    pub fn mul_add(&self, b: &Rational, c: &Rational) -> Rational {
+        let (pn, pd) = (&b.num * &c.num, &b.den * &c.den);
+        if self.den == pd {
+            return Rational::new(&self.num + pn, pd);
+        }
+        Rational::new(&self.num * &pd + pn * &self.den, &self.den * pd)
+    }
+
     /// `self - other`.
     pub fn sub(&self, other: &Rational) -> Rational {
         self.add(&other.neg())
@@ -340,6 +350,27 @@ impl Ord for Rational {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mul_add_and_new_reduce_like_the_separate_operations() {
+        let vals: Vec<Rational> = [(3, 7), (-5, 12), (1, 8), (-6, 4), (0, 5), (9, 1), (10, 16)]
+            .iter()
+            .map(|&(n, d)| Rational::new(Int::from(n), Int::from(d)))
+            .collect();
+        for a in &vals {
+            for b in &vals {
+                for c in &vals {
+                    let fused = a.mul_add(b, c);
+                    let separate = a.add(&b.mul(c));
+                    // equal as reduced pairs: numerator and denominator alike
+                    assert_eq!(fused.numer(), separate.numer());
+                    assert_eq!(fused.denom(), separate.denom());
+                    let g = Int::from(fused.numer().gcd(fused.denom()));
+                    assert!(fused.is_zero() || g == Int::ONE, "{fused:?} is not reduced");
+                }
+            }
+        }
+    }
 
     #[test]
     fn from_f64_exact() {
