@@ -21,7 +21,7 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use crate::geom::{for_each_minkowski_edge, Point};
-use crate::num::{lcm, Int, Rational, Sign, Time};
+use crate::num::{lcm, Int, Interval, Rational, Sign, Time};
 use crate::world::{BodyId, World};
 
 /// How the reference computes a pair's contact interval.
@@ -142,33 +142,73 @@ fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
         wy <<= s;
         den.clone()
     };
-    // t_in = max over α<0 of β/α, t_out = min over α>0 of β/α, as (num, den>0)
-    let mut t_in: Option<(Int, Int)> = None;
-    let mut t_out: Option<(Int, Int)> = None;
+    // t_in = max over α<0 of β/α, t_out = min over α>0 of β/α, as (num, den>0).
+    // Each edge's α and β on enclosures first: α's sign and an enclosure of
+    // β/α decide most edges, and only the edges whose ratio may be the
+    // extreme one are computed exactly.
+    let iv = Interval::of_int;
+    let (dxi, dyi, wxi, wyi, rsi) = (iv(&dx), iv(&dy), iv(&wx), iv(&wy), iv(&rhs_scale));
+    let exact_alpha = |e: &crate::geom::MinkowskiEdge| &e.nx * &wx + &e.ny * &wy;
+    let exact_beta =
+        |e: &crate::geom::MinkowskiEdge| &e.h * &rhs_scale - (&e.nx * &dx + &e.ny * &dy);
+    // (edge, sign of α, enclosure of β/α)
+    let mut ratios: Vec<(usize, Sign, Interval)> = Vec::new();
     let mut parallel_strict = true;
-    for e in &edges {
-        let alpha = &e.nx * &wx + &e.ny * &wy;
-        let beta = &e.h * &rhs_scale - (&e.nx * &dx + &e.ny * &dy);
-        match Sign::of(&alpha) {
-            Sign::Zero => match Sign::of(&beta) {
-                Sign::Negative => return ContactInterval::Never,
-                Sign::Zero => parallel_strict = false,
-                Sign::Positive => {}
-            },
-            Sign::Negative => {
-                let f = (-beta, -alpha);
-                if t_in.as_ref().is_none_or(|g| frac_cmp(&f, g).is_gt()) {
-                    t_in = Some(f);
+    for (k, e) in edges.iter().enumerate() {
+        let (nx, ny) = (iv(&e.nx), iv(&e.ny));
+        let a = nx * wxi + ny * wyi;
+        let b = iv(&e.h) * rsi - (nx * dxi + ny * dyi);
+        let sa = if a.lo > 0.0 {
+            Sign::Positive
+        } else if a.hi < 0.0 {
+            Sign::Negative
+        } else {
+            Sign::of(&exact_alpha(e))
+        };
+        match sa {
+            Sign::Zero => {
+                let sb = if b.lo > 0.0 {
+                    Sign::Positive
+                } else if b.hi < 0.0 {
+                    Sign::Negative
+                } else {
+                    Sign::of(&exact_beta(e))
+                };
+                match sb {
+                    Sign::Negative => return ContactInterval::Never,
+                    Sign::Zero => parallel_strict = false,
+                    Sign::Positive => {}
                 }
             }
-            Sign::Positive => {
-                let f = (beta, alpha);
-                if t_out.as_ref().is_none_or(|g| frac_cmp(&f, g).is_lt()) {
-                    t_out = Some(f);
+            s => ratios.push((k, s, b / a)),
+        }
+    }
+    // the exact extreme among the edges of one sign whose ratio may reach
+    // the bound that the enclosures give
+    let extreme = |sign: Sign| -> Option<(Int, Int)> {
+        let of_sign = || ratios.iter().filter(move |r| r.1 == sign);
+        let mut best: Option<(Int, Int)> = None;
+        if sign == Sign::Negative {
+            let bound = of_sign().map(|r| r.2.lo).fold(f64::NEG_INFINITY, f64::max);
+            for &(k, _, _) in of_sign().filter(|r| r.2.hi >= bound) {
+                let f = (-exact_beta(&edges[k]), -exact_alpha(&edges[k]));
+                if best.as_ref().is_none_or(|g| frac_cmp(&f, g).is_gt()) {
+                    best = Some(f);
+                }
+            }
+        } else {
+            let bound = of_sign().map(|r| r.2.hi).fold(f64::INFINITY, f64::min);
+            for &(k, _, _) in of_sign().filter(|r| r.2.lo <= bound) {
+                let f = (exact_beta(&edges[k]), exact_alpha(&edges[k]));
+                if best.as_ref().is_none_or(|g| frac_cmp(&f, g).is_lt()) {
+                    best = Some(f);
                 }
             }
         }
-    }
+        best
+    };
+    let t_in = extreme(Sign::Negative);
+    let t_out = extreme(Sign::Positive);
     if let (Some(i), Some(o)) = (&t_in, &t_out) {
         if frac_cmp(i, o).is_gt() {
             return ContactInterval::Never;
