@@ -439,7 +439,7 @@ impl<'a> Geo<'a> {
         };
         let Some(ap) = self.shapes.approx(b) else {
             // a real vertex: a table lookup and two products, cheaper than
-            // the cache
+            // a memo
             let body = self.world.body(b);
             let [x, y] = body.shape.int_vertex_enclosure(a.v as usize);
             return Some(body.frame.linear_enclosure(x, y));
@@ -465,8 +465,8 @@ impl<'a> Geo<'a> {
         Some((self.world.body(b).frame.uid(), key))
     }
 
-    /// The body of `a` and the key of its body-frame point in the
-    /// enclosure cache: `(u32::MAX, v)` for real vertex `v`, `(i, k)` for
+    /// The body of `a` and which body-frame point it is: `(u32::MAX, v)`
+    /// for real vertex `v`, `(i, k)` for
     /// the approximation vertex `av(i, k)` (`None` for `ω` or an id that is
     /// not exposed).
     fn linear_key(&self, a: Att) -> Option<(BodyId, (u32, u32))> {
@@ -491,7 +491,7 @@ impl<'a> Geo<'a> {
     }
 
     /// [`Geo::enclose_linear`] of the point `key` of body `b`, computed
-    /// afresh (not from the cache).
+    /// afresh (not from the memo).
     fn linear_fresh(&self, b: BodyId, key: (u32, u32)) -> Option<[Interval; 4]> {
         let body = self.world.body(b);
         let [x, y] = if key.0 == u32::MAX {
@@ -504,7 +504,7 @@ impl<'a> Geo<'a> {
     }
 
     /// Whether the cached enclosure of `a` ([`Geo::enclose_linear`]) is
-    /// the one computed afresh (the audit's check that the cache never
+    /// the one computed afresh (the audit's check that the memo never
     /// answers for another point).
     pub fn enclosure_cache_agrees(&self, a: Att) -> bool {
         match self.linear_key(a) {
