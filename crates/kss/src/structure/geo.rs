@@ -45,7 +45,7 @@ const EMPTY_ENTRY: MemoEntry = (u32::MAX, [Interval { lo: 0.0, hi: 0.0 }; 2]);
 
 impl EnclosureMemo {
     /// An empty memo sized for an approximation of `n` vertices (at least
-    /// 4 and at most [`MEMO_MAX`] entries).
+    /// 4 and at most 1024 entries).
     pub fn new(n: usize) -> EnclosureMemo {
         let n = n.next_power_of_two().clamp(4, MEMO_MAX);
         EnclosureMemo {
