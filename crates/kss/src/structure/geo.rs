@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use super::memo::PointKey;
 use super::{Att, Obj};
-use crate::geom::Point;
+use crate::geom::{MidRad, Point};
 use crate::hier::{EdgeArray, Exposed};
 use crate::motion::{Frame, LinearPoint};
 use crate::num::{Interval, Rational, Sign, Time};
@@ -560,11 +560,25 @@ impl<'a> Geo<'a> {
     pub fn orient_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
         use super::counters::{bump, Counter};
         bump(Counter::TurnsFiltered);
-        let s = crate::geom::orient_enclosed(
-            self.enclose(u, t)?,
-            self.enclose(v, t)?,
-            self.enclose(w, t)?,
-        );
+        let lin = [
+            self.enclose_linear(u)?,
+            self.enclose_linear(v)?,
+            self.enclose_linear(w)?,
+        ];
+        let at = |[x0, x1, y0, y1]: [Interval; 4]| [x0 + x1 * t, y0 + y1 * t];
+        // the midpoint–radius filter first (cheapest), then the intervals
+        if let [Some(a), Some(b), Some(c)] = lin.map(|l| MidRad::at(l, t)) {
+            if let Some(s) = crate::geom::orient_mid_rad(a, b, c) {
+                #[cfg(debug_assertions)]
+                if let Some(other) =
+                    crate::geom::orient_enclosed(at(lin[0]), at(lin[1]), at(lin[2]))
+                {
+                    assert_eq!(s, other, "the two filters disagree on {u:?} {v:?} {w:?}");
+                }
+                return Some(s);
+            }
+        }
+        let s = crate::geom::orient_enclosed(at(lin[0]), at(lin[1]), at(lin[2]));
         if s.is_none() {
             bump(Counter::TurnsUndecided);
         }

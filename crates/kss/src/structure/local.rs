@@ -144,15 +144,21 @@ pub fn between_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> 
 fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> bool {
     let v = j.v;
     let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
-    // each of the five points enclosed once for the up to eight turns below
+    // each of the five points enclosed once (midpoint and radius) for the
+    // up to eight turns below; the interval filter and the exact turn only
+    // where that does not decide
     let tiv = t.interval();
     let pts = [v, up, down, j.prev, j.next];
-    let ivs = pts.map(|a| world.enclose(a, tiv));
-    let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| ivs[i]);
+    let mids = pts.map(|a| {
+        world
+            .enclose_linear(a)
+            .and_then(|l| crate::geom::MidRad::at(l, tiv))
+    });
+    let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| mids[i]);
     let tn = |a: Att, b: Att, c: Att| {
         if let (Some(ea), Some(eb), Some(ec)) = (at(a), at(b), at(c)) {
             super::counters::bump(super::counters::Counter::TurnsFiltered);
-            if let Some(s) = crate::geom::orient_enclosed(ea, eb, ec) {
+            if let Some(s) = crate::geom::orient_mid_rad(ea, eb, ec) {
                 return s;
             }
         }
