@@ -149,6 +149,13 @@ impl Frame {
         [ox + m * x, vx, oy + m * y, vy]
     }
 
+    /// The enclosures `[x1, y1]` of the velocity, the terms of every
+    /// [`Frame::linear_enclosure`] of this frame that do not depend on the
+    /// point.
+    pub fn velocity_enclosure(&self) -> [Interval; 2] {
+        [self.iv[2], self.iv[3]]
+    }
+
     /// The moving world position of body vertex `i`.
     pub fn vertex(&self, body: &BodyPolygon, i: usize) -> LinearPoint {
         let (x, y) = body.int_vertex(i);

@@ -23,75 +23,84 @@ use crate::world::{BodyId, World};
 /// The most entries an [`EnclosureMemo`] has (a power of two).
 const MEMO_MAX: usize = 1 << 10;
 
-/// One entry of an [`EnclosureMemo`]: the exposed id (`u32::MAX`: empty)
-/// and the enclosures of its position at time 0 (the velocity terms are the
-/// frame's own).
-type MemoEntry = (u32, [Interval; 2]);
+/// One entry of an [`EnclosureMemo`]: the approximation vertex `av(i, k)`
+/// as `(k, i)` (`k = u32::MAX`: empty) and the enclosures of its position
+/// at time 0 (the velocity terms are the frame's own).
+type MemoEntry = (u32, u32, [Interval; 2]);
 
 /// The linear enclosures of a body's recently seen approximation vertices,
-/// direct-mapped by exposed id, for one frame and one version of the
-/// exposed set (the memo's key): at an event the same few points are
-/// enclosed for many predicates. Neither a frame's uid nor an exposed set's
-/// version is ever reused, so an entry is never stale: a motion change makes
-/// a new frame, and a pop or a merge (which changes which body-frame point
-/// an exposed id names) a new version, and the memo starts again under the
-/// new key. A clone starts empty.
+/// direct-mapped by exposed id, for one frame (the memo's key): at an
+/// event the same few points are enclosed for many predicates. An entry
+/// names the body-frame point itself, `av(i, k)` with `i` the id before
+/// `k`, so a pop or a merge (which changes which point an exposed id names)
+/// leaves every other entry valid; a frame's uid is never reused, and a
+/// motion change (a new frame) starts the memo again. It grows with the
+/// approximation. A clone starts empty.
 pub struct EnclosureMemo {
-    key: std::cell::Cell<(u64, u64)>,
-    slots: Box<[std::cell::Cell<MemoEntry>]>,
+    uid: std::cell::Cell<u64>,
+    slots: std::cell::RefCell<Vec<MemoEntry>>,
 }
 
-const EMPTY_ENTRY: MemoEntry = (u32::MAX, [Interval { lo: 0.0, hi: 0.0 }; 2]);
+const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
 
 impl EnclosureMemo {
-    /// An empty memo sized for an approximation of `n` vertices (at least
-    /// 4 and at most 1024 entries).
+    /// An empty memo sized for an approximation of `n` vertices (twice
+    /// that, at least 8 and at most 1024 entries).
     pub fn new(n: usize) -> EnclosureMemo {
-        let n = n.next_power_of_two().clamp(4, MEMO_MAX);
         EnclosureMemo {
-            key: std::cell::Cell::new((0, 0)),
-            slots: (0..n).map(|_| std::cell::Cell::new(EMPTY_ENTRY)).collect(),
+            uid: std::cell::Cell::new(0),
+            slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; Self::size(n)]),
         }
     }
 
-    /// The slot of exposed id `k` (a multiplicative hash: the ids of a
-    /// coarse approximation are multiples of a power of two).
-    fn slot(&self, k: u32) -> &std::cell::Cell<MemoEntry> {
-        let bits = self.slots.len().trailing_zeros();
-        &self.slots[(k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize]
+    fn size(n: usize) -> usize {
+        (2 * n).next_power_of_two().clamp(8, MEMO_MAX)
     }
 
-    fn get(&self, key: (u64, u64), k: u32) -> Option<[Interval; 2]> {
-        if self.key.get() != key {
+    /// The slot of exposed id `k` among `len` (a multiplicative hash: the
+    /// ids of a coarse approximation are multiples of a power of two).
+    fn slot(len: usize, k: u32) -> usize {
+        let bits = len.trailing_zeros();
+        (k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize
+    }
+
+    fn get(&self, uid: u64, (k, i): (u32, u32)) -> Option<[Interval; 2]> {
+        if self.uid.get() != uid {
             return None;
         }
-        let e = self.slot(k).get();
-        (e.0 == k).then_some(e.1)
+        let slots = self.slots.borrow();
+        let e = slots[Self::slot(slots.len(), k)];
+        (e.0 == k && e.1 == i).then_some(e.2)
     }
 
-    fn put(&self, key: (u64, u64), k: u32, e: [Interval; 2]) {
-        if self.key.get() != key {
-            self.slots.iter().for_each(|s| s.set(EMPTY_ENTRY));
-            self.key.set(key);
+    /// Keep `e` for `av(i, k)` of the frame `uid`, the approximation having
+    /// `n` vertices.
+    fn put(&self, uid: u64, (k, i): (u32, u32), n: usize, e: [Interval; 2]) {
+        let mut slots = self.slots.borrow_mut();
+        let want = Self::size(n);
+        if self.uid.get() != uid || want > slots.len() {
+            let len = want.max(slots.len());
+            slots.clear();
+            slots.resize(len, EMPTY_ENTRY);
+            self.uid.set(uid);
         }
-        self.slot(k).set((k, e));
+        let at = Self::slot(slots.len(), k);
+        slots[at] = (k, i, e);
     }
 }
 
 impl Clone for EnclosureMemo {
     fn clone(&self) -> EnclosureMemo {
         EnclosureMemo {
-            key: std::cell::Cell::new((0, 0)),
-            slots: (0..self.slots.len())
-                .map(|_| std::cell::Cell::new(EMPTY_ENTRY))
-                .collect(),
+            uid: std::cell::Cell::new(0),
+            slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; self.slots.borrow().len()]),
         }
     }
 }
 
 impl std::fmt::Debug for EnclosureMemo {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "EnclosureMemo({} slots)", self.slots.len())
+        write!(f, "EnclosureMemo({} slots)", self.slots.borrow().len())
     }
 }
 
@@ -445,14 +454,19 @@ impl<'a> Geo<'a> {
             return Some(body.frame.linear_enclosure(x, y));
         };
         let frame = &self.world.body(b).frame;
-        let key = (frame.uid(), ap.exposed.version());
-        if let Some([x0, y0]) = ap.memo.get(key, a.v) {
-            let [_, x1, _, y1] = frame.linear_enclosure(Interval::point(0.0), Interval::point(0.0));
+        let k = a.v as usize;
+        if !ap.exposed.contains(k) {
+            return None;
+        }
+        let i = ap.exposed.pred(k)?;
+        let ki = (a.v, i as u32);
+        if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki) {
+            let [x1, y1] = frame.velocity_enclosure();
             return Some([x0, x1, y0, y1]);
         }
         let (b, at) = self.linear_key(a)?;
         let e = self.linear_fresh(b, at)?;
-        ap.memo.put(key, a.v, [e[0], e[2]]);
+        ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
         Some(e)
     }
 

@@ -1049,9 +1049,13 @@ impl Kss {
             }
             s => s,
         };
+        // (the bridge's ends move one step at a time: a step from the
+        // previous end, not `i` steps from the chain's start, which costs
+        // `O(i)` on an approximation)
+        let (mut alpha, mut beta) = (step_cw(world, a_s, i), step_cw(world, b_t, j));
         for steps in 0..limit {
-            let alpha = step_cw(world, a_s, i);
-            let beta = step_cw(world, b_t, j);
+            debug_assert_eq!(alpha, step_cw(world, a_s, i));
+            debug_assert_eq!(beta, step_cw(world, b_t, j));
             // α's turn in face t (towards α − 1, or b_t when α = a_t) and in
             // face s (from α + 1, or b_s when α = a_s); β's likewise
             let a_in_t = if i < len_a {
@@ -1110,6 +1114,12 @@ impl Kss {
                 Some((di, dj)) => {
                     i = (i as i64 + di) as u32;
                     j = (j as i64 + dj) as u32;
+                    let step = |x: Att, d: i64| match d {
+                        1 => step_cw(world, x, 1),
+                        -1 => step_ccw(world, x),
+                        _ => x,
+                    };
+                    (alpha, beta) = (step(alpha, di), step(beta, dj));
                 }
             }
         }
