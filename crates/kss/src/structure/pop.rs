@@ -49,6 +49,7 @@
 use super::geo::{Geo, Shapes};
 use super::local::{turn_on, Side};
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
+use crate::geom::MidRad;
 use crate::num::{Sign, Time};
 use crate::world::World;
 
@@ -555,6 +556,9 @@ impl Kss {
     ) -> bool {
         let sign = |p: [Att; 3]| turn_on(geo, p[0], p[1], p[2], t, side);
         let holds = |p: [Att; 3]| sign(p) == Sign::Positive;
+        // each body's ring (and its points' midpoints and radii) once
+        let tiv = t.interval();
+        let mut rings: Vec<(crate::world::BodyId, Ring)> = Vec::new();
         for &ti in tris {
             let c = self.tris[ti.0 as usize].c;
             if !c.iter().any(|x| x.is_omega()) && !holds(c) {
@@ -576,7 +580,14 @@ impl Kss {
             for i in 0..3 {
                 let (x, p, q) = (c[i], c[(i + 1) % 3], c[(i + 2) % 3]);
                 if let (Obj::Body(b), false, false) = (x.obj, p.is_omega(), q.is_omega()) {
-                    if segment_crosses(geo, (b, x), p, q, &sign) {
+                    let at = match rings.iter().position(|r| r.0 == b) {
+                        Some(at) => at,
+                        None => {
+                            rings.push((b, ring_of(geo, b, tiv)));
+                            rings.len() - 1
+                        }
+                    };
+                    if segment_crosses(geo, (&rings[at].1, x), [p, q], tiv, &sign) {
                         #[cfg(feature = "trace")]
                         eprintln!("  triangle {}: side {p:?}-{q:?} crosses body {}", ti.0, b.0);
                         return false;
@@ -620,20 +631,51 @@ impl Kss {
 /// body `b` as `geo` sees it, by the signs `sign` (exact, at or just beside
 /// an instant): no separating line among the segment's line and the
 /// body's edge lines.
+/// A body's vertices as the structure sees them, counter-clockwise, each
+/// with its midpoint and radius at the instant (for the cheap filter).
+type Ring = Vec<(Att, Option<MidRad>)>;
+
+fn ring_of(geo: &Geo, b: crate::world::BodyId, t: crate::num::Interval) -> Ring {
+    geo.ids(b)
+        .into_iter()
+        .map(|v| {
+            let a = Att::vertex(b, v);
+            (a, geo.enclose_linear(a).and_then(|l| MidRad::at(l, t)))
+        })
+        .collect()
+}
+
+/// Whether segment `pq` crosses the interior of the polygon `ring` (of the
+/// body whose vertex `x` is the triangle's corner opposite the segment):
+/// the polygon has vertices strictly on both sides of the segment's line,
+/// and no edge line has both ends of the segment on its closed outer side.
+/// Turns go through the midpoint–radius filter first, then `sign`.
 fn segment_crosses(
     geo: &Geo,
-    (b, x): (crate::world::BodyId, Att),
-    p: Att,
-    q: Att,
+    (ring, x): (&Ring, Att),
+    [p, q]: [Att; 2],
+    t: crate::num::Interval,
     sign: &dyn Fn([Att; 3]) -> Sign,
 ) -> bool {
-    let ring: Vec<Att> = geo.ids(b).into_iter().map(|v| Att::vertex(b, v)).collect();
     let m = ring.len();
+    let mr = |a: Att| geo.enclose_linear(a).and_then(|l| MidRad::at(l, t));
+    let (mp, mq) = (mr(p), mr(q));
+    let tn = |(a, ma): (Att, Option<MidRad>),
+              (b, mb): (Att, Option<MidRad>),
+              (c, mc): (Att, Option<MidRad>)| {
+        if let (Some(ma), Some(mb), Some(mc)) = (ma, mb, mc) {
+            if let Some(s) = crate::geom::orient_mid_rad(ma, mb, mc) {
+                return s;
+            }
+        }
+        sign([a, b, c])
+    };
+    let (p, q) = ((p, mp), (q, mq));
     // an edge line (counter-clockwise ring: outside is negative) with both
     // ends of the segment on its closed outer side: no crossing. Looked for
-    // first, from the edges at `x` (the triangle's corner on `b`, facing the
-    // segment) outwards, where one almost always is
-    let at = ring.iter().position(|&v| v == x).unwrap_or(0);
+    // first, from the edges at `x` (the triangle's corner on the body,
+    // facing the segment) outwards, where one almost always is
+    let at = ring.iter().position(|&(v, _)| v == x).unwrap_or(0);
     let separating = (0..m)
         .map(|d| {
             // d = 0, 1, 2, 3, …: the edges at `at`, alternately after and before
@@ -642,15 +684,15 @@ fn segment_crosses(
         })
         .any(|j| {
             let (u, w) = (ring[j], ring[(j + 1) % m]);
-            sign([u, w, p]) != Sign::Positive && sign([u, w, q]) != Sign::Positive
+            tn(u, w, p) != Sign::Positive && tn(u, w, q) != Sign::Positive
         });
     if separating {
         return false;
     }
     // the segment's line: the body on one closed side
     let (mut pos, mut neg) = (false, false);
-    for &v in &ring {
-        match sign([p, q, v]) {
+    for &v in ring {
+        match tn(p, q, v) {
             Sign::Positive => pos = true,
             Sign::Negative => neg = true,
             Sign::Zero => {}
