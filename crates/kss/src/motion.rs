@@ -149,6 +149,15 @@ impl Frame {
         [ox + m * x, vx, oy + m * y, vy]
     }
 
+    /// [`Frame::linear_enclosure`] of a vertex of the body polygon given by
+    /// its coordinates as the input doubles `(x, y)` (exactly `2^exp` times
+    /// its integer coordinates, so that the grid scale's product is not
+    /// needed): one rounded sum per coordinate.
+    pub fn linear_enclosure_of_vertex(&self, [x, y]: [f64; 2]) -> [Interval; 4] {
+        let [ox, oy, vx, vy, _] = self.iv;
+        [ox + Interval::point(x), vx, oy + Interval::point(y), vy]
+    }
+
     /// The enclosures `[x1, y1]` of the velocity, the terms of every
     /// [`Frame::linear_enclosure`] of this frame that do not depend on the
     /// point.
@@ -299,6 +308,41 @@ mod tests {
 
     fn pt(x: f64, y: f64) -> Point {
         Point::from_f64([x, y]).unwrap()
+    }
+
+    /// The enclosure of a vertex from its input doubles holds the exact
+    /// linear position, for frames through non-dyadic instants (large
+    /// denominators) and polygons of several scales.
+    #[test]
+    fn vertex_enclosures_from_the_input_doubles_hold_the_exact_position() {
+        let within = |iv: Interval, num: &Int, w: &Int| {
+            let x = Rational::new(num.clone(), w.clone());
+            r(iv.lo) <= x && x <= r(iv.hi)
+        };
+        for scale in [1.0, 3.0e-7, 1.5e9] {
+            let poly = BodyPolygon::new(&[
+                [-0.3 * scale, -0.1 * scale],
+                [0.7 * scale, 0.05 * scale],
+                [0.1 * scale, 0.9 * scale],
+            ])
+            .unwrap();
+            let t = Rational::new(Int::from(7), Int::from(3));
+            for (p, v) in [
+                (pt(0.25, -1.5), pt(1.0 / 3.0, 0.2)),
+                (pt(1e6, 3.0), pt(-0.1, 1e-9)),
+            ] {
+                let traj = Trajectory::through(&t, &p, v);
+                let frame = Frame::new(&traj, &poly);
+                for (i, &xy) in poly.f64_vertices().iter().enumerate() {
+                    let e = frame.linear_enclosure_of_vertex(xy);
+                    let lp = frame.vertex(&poly, i);
+                    assert!(within(e[0], &lp.x0, &lp.w), "x0 of {i} at scale {scale}");
+                    assert!(within(e[1], &lp.x1, &lp.w), "x1 of {i}");
+                    assert!(within(e[2], &lp.y0, &lp.w), "y0 of {i}");
+                    assert!(within(e[3], &lp.y1, &lp.w), "y1 of {i}");
+                }
+            }
+        }
     }
 
     #[test]

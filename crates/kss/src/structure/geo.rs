@@ -447,11 +447,11 @@ impl<'a> Geo<'a> {
             return None;
         };
         let Some(ap) = self.shapes.approx(b) else {
-            // a real vertex: a table lookup and two products, cheaper than
-            // a memo
+            // a real vertex: its input doubles and one sum per coordinate,
+            // cheaper than a memo
             let body = self.world.body(b);
-            let [x, y] = body.shape.int_vertex_enclosure(a.v as usize);
-            return Some(body.frame.linear_enclosure(x, y));
+            let v = body.shape.f64_vertices()[a.v as usize];
+            return Some(body.frame.linear_enclosure_of_vertex(v));
         };
         let frame = &self.world.body(b).frame;
         let k = a.v as usize;
@@ -508,12 +508,12 @@ impl<'a> Geo<'a> {
     /// afresh (not from the memo).
     fn linear_fresh(&self, b: BodyId, key: (u32, u32)) -> Option<[Interval; 4]> {
         let body = self.world.body(b);
-        let [x, y] = if key.0 == u32::MAX {
-            body.shape.int_vertex_enclosure(key.1 as usize)
-        } else {
-            let ap = self.shapes.approx(b)?;
-            ap.array.av_enclose(key.0 as usize, key.1 as usize)?
-        };
+        if key.0 == u32::MAX {
+            let v = body.shape.f64_vertices()[key.1 as usize];
+            return Some(body.frame.linear_enclosure_of_vertex(v));
+        }
+        let ap = self.shapes.approx(b)?;
+        let [x, y] = ap.array.av_enclose(key.0 as usize, key.1 as usize)?;
         Some(body.frame.linear_enclosure(x, y))
     }
 
