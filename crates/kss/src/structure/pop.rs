@@ -664,6 +664,7 @@ fn segment_crosses(
               (b, mb): (Att, Option<MidRad>),
               (c, mc): (Att, Option<MidRad>)| {
         if let (Some(ma), Some(mb), Some(mc)) = (ma, mb, mc) {
+            super::counters::bump(super::counters::Counter::TurnsFiltered);
             if let Some(s) = crate::geom::orient_mid_rad(ma, mb, mc) {
                 return s;
             }
