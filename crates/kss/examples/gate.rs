@@ -25,7 +25,9 @@
 use std::collections::HashSet;
 use std::f64::consts::TAU;
 
+use kss::gen::regular_polygon;
 use kss::num::Rational;
+use kss::rng::Rng;
 use kss::{CollisionEvent, PolygonSpec, SimError, SimOptions, Simulation};
 
 /// Length of the walls' stretch east of the gate.
@@ -41,35 +43,6 @@ const BACK_X: f64 = -1.0;
 const TICK: f64 = 0.25;
 /// The simulated interval is `[0, UNTIL]`.
 const UNTIL: f64 = 120.0;
-
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[lo, hi)`.
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// A regular `n`-gon of circumradius `r` centred on its body frame's
-/// origin, counter-clockwise.
-fn regular(n: usize, r: f64, phase: f64) -> Vec<[f64; 2]> {
-    (0..n)
-        .map(|i| {
-            let a = phase + TAU * i as f64 / n as f64;
-            [r * a.cos(), r * a.sin()]
-        })
-        .collect()
-}
 
 /// A fixed polygon with `vertices` around `centre`.
 fn fixed(id: &str, vertices: Vec<[f64; 2]>, centre: [f64; 2]) -> PolygonSpec {
@@ -94,9 +67,9 @@ fn field() -> Vec<PolygonSpec> {
     vec![
         wall("#wall-s", -2.0, -1.0, LENGTH + 2.0, 0.0),
         wall("#wall-n", -2.0, WIDTH, LENGTH + 2.0, WIDTH + 1.0),
-        fixed("#rock-1", regular(8, 0.5, 0.2), [9.0, 3.0]),
-        fixed("#rock-2", regular(6, 0.5, 0.0), [14.0, 7.0]),
-        fixed("#rock-3", regular(3, 0.6, 0.0), [20.0, 4.5]),
+        fixed("#rock-1", regular_polygon(8, 0.5, 0.2), [9.0, 3.0]),
+        fixed("#rock-2", regular_polygon(6, 0.5, 0.0), [14.0, 7.0]),
+        fixed("#rock-3", regular_polygon(3, 0.6, 0.0), [20.0, 4.5]),
     ]
 }
 
@@ -104,15 +77,15 @@ fn field() -> Vec<PolygonSpec> {
 /// east.
 fn next_arrival(n: u64, rng: &mut Rng) -> PolygonSpec {
     let speed = 2.0;
-    let heading = rng.range(-0.1, 0.1);
+    let heading = rng.range_f64(-0.1, 0.1);
     PolygonSpec {
         id: format!("p{n:04}"),
-        vertices: regular(
+        vertices: regular_polygon(
             3 + (n % 5) as usize,
-            rng.range(0.2, 0.35),
-            rng.range(0.0, TAU),
+            rng.range_f64(0.2, 0.35),
+            rng.range_f64(0.0, TAU),
         ),
-        position: [1.0, rng.range(3.5, 6.5)],
+        position: [1.0, rng.range_f64(3.5, 6.5)],
         velocity: [speed * heading.cos(), speed * heading.sin()],
         fixed: false,
     }
@@ -143,7 +116,7 @@ fn respond(sim: &mut Simulation, events: &[CollisionEvent]) -> Result<u64, SimEr
 }
 
 fn main() -> Result<(), SimError> {
-    let mut rng = Rng(7);
+    let mut rng = Rng::new(7);
     let mut sim = Simulation::new(&field(), &SimOptions::default())?;
     let exit = Rational::from_f64(EXIT_X).expect("a finite double");
     let back = Rational::from_f64(BACK_X).expect("a finite double");

@@ -28,6 +28,8 @@
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 
+use kss::gen::regular_polygon;
+use kss::rng::Rng;
 use kss::{PolygonSpec, SimError, SimOptions, Simulation, StructureKind};
 
 /// Side of the square box (its inside is `[0, SIDE]²`).
@@ -38,35 +40,6 @@ const AGENTS: usize = 40;
 const UNTIL: f64 = 60.0;
 /// How many contacts the log prints one by one.
 const LOGGED: usize = 12;
-
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[lo, hi)`.
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// A regular `n`-gon of circumradius `r` centred on its body frame's
-/// origin, counter-clockwise.
-fn regular(n: usize, r: f64, phase: f64) -> Vec<[f64; 2]> {
-    (0..n)
-        .map(|i| {
-            let a = phase + TAU * i as f64 / n as f64;
-            [r * a.cos(), r * a.sin()]
-        })
-        .collect()
-}
 
 /// An axis-parallel rectangle `[x0, x1] × [y0, y1]`, fixed, centred on its
 /// body frame's origin.
@@ -99,11 +72,15 @@ fn agents(rng: &mut Rng) -> Vec<PolygonSpec> {
     let cell = SIDE / cols as f64;
     (0..AGENTS)
         .map(|i| {
-            let heading = rng.range(0.0, TAU);
-            let speed = rng.range(0.5, 1.5);
+            let heading = rng.range_f64(0.0, TAU);
+            let speed = rng.range_f64(0.5, 1.5);
             PolygonSpec {
                 id: format!("agent-{i:02}"),
-                vertices: regular(3 + i % 6, rng.range(0.2, 0.35), rng.range(0.0, TAU)),
+                vertices: regular_polygon(
+                    3 + i % 6,
+                    rng.range_f64(0.2, 0.35),
+                    rng.range_f64(0.0, TAU),
+                ),
                 position: [
                     (i % cols) as f64 * cell + cell / 2.0,
                     (i / cols) as f64 * cell + cell / 2.0,
@@ -116,7 +93,7 @@ fn agents(rng: &mut Rng) -> Vec<PolygonSpec> {
 }
 
 fn main() -> Result<(), SimError> {
-    let mut rng = Rng(2024);
+    let mut rng = Rng::new(2024);
     let mut polygons = walls(0.05);
     polygons.extend(agents(&mut rng));
     let options = SimOptions {
@@ -178,8 +155,8 @@ fn main() -> Result<(), SimError> {
         }
         let mut changes = Vec::new();
         for (id, [hx, hy]) in heading {
-            let turn = rng.range(-0.45, 0.45);
-            let speed = rng.range(0.5, 1.5);
+            let turn = rng.range_f64(-0.45, 0.45);
+            let speed = rng.range_f64(0.5, 1.5);
             let len = hx.hypot(hy);
             let v = if len < 1e-9 {
                 // squeezed from opposite sides: stand still
