@@ -812,6 +812,44 @@ where
     (&u.1 * &v.0).cmp(&(&u.0 * &v.1))
 }
 
+/// The f64 filter of a Minkowski edge's inequality `n · d <= h · 2^exp`
+/// (`d` the relative position of two placed polygons, `exp` the edges'
+/// exponent): enclosures of both sides.
+pub(crate) struct EdgeSideFilter {
+    dx: Interval,
+    dy: Interval,
+    unit: Option<Interval>,
+}
+
+impl EdgeSideFilter {
+    /// The filter for relative position `d` and exponent `exp`.
+    pub(crate) fn new(d: &Point, exp: i64) -> EdgeSideFilter {
+        EdgeSideFilter {
+            dx: d.x.interval(),
+            dy: d.y.interval(),
+            unit: (-1000..=1000)
+                .contains(&exp)
+                .then(|| Interval::point(2f64.powi(exp as i32))),
+        }
+    }
+
+    /// `Greater` or `Less` when the enclosures show `n · d` strictly above
+    /// or below `h · 2^exp` for edge `e`; `None` when they cannot tell (an
+    /// exponent out of the doubles' range, or enclosures that overlap).
+    pub(crate) fn of(&self, e: &MinkowskiEdge) -> Option<std::cmp::Ordering> {
+        let unit = self.unit?;
+        let lhs = self.dx * Interval::of_int(&e.nx) + self.dy * Interval::of_int(&e.ny);
+        let rhs = Interval::of_int(&e.h) * unit;
+        if lhs.lo > rhs.hi {
+            Some(std::cmp::Ordering::Greater)
+        } else if lhs.hi < rhs.lo {
+            Some(std::cmp::Ordering::Less)
+        } else {
+            None
+        }
+    }
+}
+
 /// Whether body polygons `a` at `pa` and `b` at `pb` share a point (closed
 /// sets), exactly, in `O(n + m)`.
 pub fn placed_polygons_intersect(a: &BodyPolygon, pa: &Point, b: &BodyPolygon, pb: &Point) -> bool {
@@ -820,28 +858,18 @@ pub fn placed_polygons_intersect(a: &BodyPolygon, pa: &Point, b: &BodyPolygon, p
     // each edge's test `n · d <= h · 2^exp` on enclosures first: a
     // separating edge ends the walk, an edge that certainly holds is done,
     // and only the others are tested exactly
-    let (dx, dy) = (d.x.interval(), d.y.interval());
-    let unit_f64 = (-1000..=1000)
-        .contains(&exp)
-        .then(|| Interval::point(2f64.powi(exp as i32)));
+    let side = EdgeSideFilter::new(&d, exp);
     let mut apart = false;
     let mut undecided: Vec<MinkowskiEdge> = Vec::new();
     for_each_minkowski_edge(a, b, |e| {
         if apart {
             return;
         }
-        if let Some(unit) = unit_f64 {
-            let lhs = dx * Interval::of_int(&e.nx) + dy * Interval::of_int(&e.ny);
-            let rhs = Interval::of_int(&e.h) * unit;
-            if lhs.lo > rhs.hi {
-                apart = true;
-                return;
-            }
-            if lhs.hi <= rhs.lo {
-                return;
-            }
+        match side.of(&e) {
+            Some(std::cmp::Ordering::Greater) => apart = true,
+            Some(_) => {}
+            None => undecided.push(e),
         }
-        undecided.push(e);
     });
     if apart {
         return false;

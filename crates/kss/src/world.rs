@@ -792,21 +792,15 @@ impl World {
         };
         // (on enclosures first: only the edges that `d` may lie on, the
         // active ones, are compared exactly)
-        let (dx, dy) = (d.x.interval(), d.y.interval());
-        let unit = (-1000..=1000)
-            .contains(&exp)
-            .then(|| Interval::point(2f64.powi(exp as i32)));
+        let side = crate::geom::EdgeSideFilter::new(&d, exp);
         for e in edges {
-            if let Some(unit) = unit {
-                let lhs = dx * Interval::of_int(&e.nx) + dy * Interval::of_int(&e.ny);
-                let rhs = Interval::of_int(&e.h) * unit;
-                if lhs.hi < rhs.lo {
-                    continue;
-                }
-                if lhs.lo > rhs.hi {
+            match side.of(&e) {
+                Some(std::cmp::Ordering::Less) => continue,
+                Some(std::cmp::Ordering::Greater) => {
                     outside = true;
                     break;
                 }
+                _ => {}
             }
             let lhs = (xn * &e.nx * yd + yn * &e.ny * xd) << lshift;
             let rhs = (&e.h * &den) << rshift;
