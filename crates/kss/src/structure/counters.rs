@@ -35,10 +35,16 @@ pub(crate) enum Counter {
     Normalizations,
     /// Walks of a middle bridge along a corridor's chains.
     Walks,
+    /// Candidate updates of a pop checked for validity
+    /// ([`super::pop`]), repairs by triangle collapses included.
+    PopCandidates,
+    /// Corridors normalized again after a pop, as owners of the
+    /// certificates on the popped body's changed vertices.
+    PopOwners,
 }
 
 /// The names of the counters, in the order of the counters' indices.
-pub const NAMES: [&str; 10] = [
+pub const NAMES: [&str; 12] = [
     "turns_filtered",
     "turns_undecided",
     "turns_exact",
@@ -49,10 +55,12 @@ pub const NAMES: [&str; 10] = [
     "failing_known",
     "normalizations",
     "walks",
+    "pop_candidates",
+    "pop_owners",
 ];
 
 thread_local! {
-    static COUNTS: [Cell<u64>; 10] = const { [const { Cell::new(0) }; 10] };
+    static COUNTS: [Cell<u64>; 12] = const { [const { Cell::new(0) }; 12] };
 }
 
 /// Count one `c`.
@@ -65,6 +73,6 @@ pub(crate) fn bump(c: Counter) {
 }
 
 /// The counts of this thread so far, in the order of [`NAMES`].
-pub fn snapshot() -> [u64; 10] {
+pub fn snapshot() -> [u64; 12] {
     COUNTS.with(|x| x.each_ref().map(Cell::get))
 }

@@ -1203,6 +1203,7 @@ impl Kinetic {
         owners.extend(tris.iter().map(|&t| Owner::Tri(t)));
         for o in &owners {
             if let Owner::Corr(k) = *o {
+                super::counters::bump(super::counters::Counter::PopOwners);
                 if let Err(_e) = self.kss.normalize(&geo, k, t, None) {
                     trace!("pop of {a:?}: {_e}; rebuilding");
                     return Ok((true, false));

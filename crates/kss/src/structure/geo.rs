@@ -151,6 +151,42 @@ pub struct Approx {
 pub struct Shapes {
     /// Per body (by index); missing or `None`: the real polygon.
     pub per: Vec<Option<Approx>>,
+    /// Recently placed points ([`Geo::mid_rad`]).
+    pub mids: MidCache,
+}
+
+/// The number of entries of a [`MidCache`], a power of two.
+const MIDS: usize = 256;
+
+/// One entry of a [`MidCache`]: the key `[body << 32 | id, frame uid,
+/// exposed version (0: the real polygon), t.lo bits, t.hi bits]` and the
+/// midpoint–radius form of the point's position at a time in `t`.
+type MidEntry = ([u64; 5], Option<MidRad>);
+
+/// The point cache of [`Geo::mid_rad`], direct-mapped (one per
+/// [`Shapes`]; a clone starts empty).
+pub struct MidCache(Box<[std::cell::Cell<MidEntry>]>);
+
+impl Default for MidCache {
+    fn default() -> MidCache {
+        MidCache(
+            (0..MIDS)
+                .map(|_| std::cell::Cell::new(([0; 5], None)))
+                .collect(),
+        )
+    }
+}
+
+impl Clone for MidCache {
+    fn clone(&self) -> MidCache {
+        MidCache::default()
+    }
+}
+
+impl std::fmt::Debug for MidCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "MidCache({} entries)", self.0.len())
+    }
 }
 
 thread_local! {
@@ -527,6 +563,41 @@ impl<'a> Geo<'a> {
         }
     }
 
+    /// The position of `a` at a time in `t` in midpoint–radius form
+    /// ([`MidRad::at`] of [`Geo::enclose_linear`]; `None` for `ω` or where
+    /// a value is not finite), through a small cache ([`MidCache`]): at an
+    /// event the same few points are placed for many predicates. An entry
+    /// is keyed by everything the value depends on: the body and id, the
+    /// body's frame ([`Frame::uid`], never reused: a motion change is a new
+    /// frame), the approximation's contents ([`Exposed::version`], never
+    /// reused; 0 for the real polygon) and the two ends of `t`, compared
+    /// exactly; debug builds check every hit against a fresh computation.
+    pub fn mid_rad(&self, a: Att, t: Interval) -> Option<MidRad> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let version = self.shapes.approx(b).map_or(0, |ap| ap.exposed.version());
+        let id = (u64::from(b.0) << 32) | u64::from(a.v);
+        let uid = self.world.body(b).frame.uid();
+        let key = [id, uid, version, t.lo.to_bits(), t.hi.to_bits()];
+        let h = (id ^ uid.rotate_left(20) ^ version.rotate_left(40))
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let slot = (h >> (64 - MIDS.trailing_zeros())) as usize;
+        let cell = &self.shapes.mids.0[slot];
+        let (k, m) = cell.get();
+        if k == key {
+            debug_assert_eq!(
+                m,
+                self.enclose_linear(a).and_then(|l| MidRad::at(l, t)),
+                "the point cache answers for another point: {a:?}"
+            );
+            return m;
+        }
+        let m = self.enclose_linear(a).and_then(|l| MidRad::at(l, t));
+        cell.set((key, m));
+        m
+    }
+
     /// An enclosure of `a`'s position at a time in `t` (the f64 filter of
     /// the orientation tests; `None` for `ω`).
     pub fn enclose(&self, a: Att, t: Interval) -> Option<[Interval; 2]> {
@@ -574,24 +645,31 @@ impl<'a> Geo<'a> {
     pub fn orient_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
         use super::counters::{bump, Counter};
         bump(Counter::TurnsFiltered);
+        // the midpoint–radius filter first (cheapest, on the cached
+        // points), then the intervals
+        if let (Some(a), Some(b), Some(c)) =
+            (self.mid_rad(u, t), self.mid_rad(v, t), self.mid_rad(w, t))
+        {
+            if let Some(s) = crate::geom::orient_mid_rad(a, b, c) {
+                #[cfg(debug_assertions)]
+                {
+                    let at = |[x0, x1, y0, y1]: [Interval; 4]| [x0 + x1 * t, y0 + y1 * t];
+                    let lin = [u, v, w].map(|x| self.enclose_linear(x).map(at));
+                    if let [Some(eu), Some(ev), Some(ew)] = lin {
+                        if let Some(other) = crate::geom::orient_enclosed(eu, ev, ew) {
+                            assert_eq!(s, other, "the two filters disagree on {u:?} {v:?} {w:?}");
+                        }
+                    }
+                }
+                return Some(s);
+            }
+        }
         let lin = [
             self.enclose_linear(u)?,
             self.enclose_linear(v)?,
             self.enclose_linear(w)?,
         ];
         let at = |[x0, x1, y0, y1]: [Interval; 4]| [x0 + x1 * t, y0 + y1 * t];
-        // the midpoint–radius filter first (cheapest), then the intervals
-        if let [Some(a), Some(b), Some(c)] = lin.map(|l| MidRad::at(l, t)) {
-            if let Some(s) = crate::geom::orient_mid_rad(a, b, c) {
-                #[cfg(debug_assertions)]
-                if let Some(other) =
-                    crate::geom::orient_enclosed(at(lin[0]), at(lin[1]), at(lin[2]))
-                {
-                    assert_eq!(s, other, "the two filters disagree on {u:?} {v:?} {w:?}");
-                }
-                return Some(s);
-            }
-        }
         let s = crate::geom::orient_enclosed(at(lin[0]), at(lin[1]), at(lin[2]));
         if s.is_none() {
             bump(Counter::TurnsUndecided);

@@ -149,11 +149,7 @@ fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> b
     // where that does not decide
     let tiv = t.interval();
     let pts = [v, up, down, j.prev, j.next];
-    let mids = pts.map(|a| {
-        world
-            .enclose_linear(a)
-            .and_then(|l| crate::geom::MidRad::at(l, tiv))
-    });
+    let mids = pts.map(|a| world.mid_rad(a, tiv));
     let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| mids[i]);
     let tn = |a: Att, b: Att, c: Att| {
         if let (Some(ea), Some(eb), Some(ec)) = (at(a), at(b), at(c)) {

@@ -554,6 +554,7 @@ impl Kss {
         t: &Time,
         side: Side,
     ) -> bool {
+        super::counters::bump(super::counters::Counter::PopCandidates);
         let sign = |p: [Att; 3]| turn_on(geo, p[0], p[1], p[2], t, side);
         let holds = |p: [Att; 3]| sign(p) == Sign::Positive;
         // each body's ring (and its points' midpoints and radii) once
@@ -640,7 +641,7 @@ fn ring_of(geo: &Geo, b: crate::world::BodyId, t: crate::num::Interval) -> Ring 
         .into_iter()
         .map(|v| {
             let a = Att::vertex(b, v);
-            (a, geo.enclose_linear(a).and_then(|l| MidRad::at(l, t)))
+            (a, geo.mid_rad(a, t))
         })
         .collect()
 }
@@ -658,7 +659,7 @@ fn segment_crosses(
     sign: &dyn Fn([Att; 3]) -> Sign,
 ) -> bool {
     let m = ring.len();
-    let mr = |a: Att| geo.enclose_linear(a).and_then(|l| MidRad::at(l, t));
+    let mr = |a: Att| geo.mid_rad(a, t);
     let (mp, mq) = (mr(p), mr(q));
     let tn = |(a, ma): (Att, Option<MidRad>),
               (b, mb): (Att, Option<MidRad>),

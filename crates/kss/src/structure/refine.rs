@@ -29,6 +29,7 @@ use crate::world::{Body, BodyId, World};
 pub fn coarsest_shapes(world: &World) -> Shapes {
     Shapes {
         per: world.bodies().iter().map(coarsest_shape).collect(),
+        mids: Default::default(),
     }
 }
 
