@@ -560,6 +560,8 @@ impl Kss {
         // each body's ring (and its points' midpoints and radii) once
         let tiv = t.interval();
         let mut rings: Vec<(crate::world::BodyId, Ring)> = Vec::new();
+        // (the triangles' signs first: most candidates that fail, fail
+        // there, before any side is tested against a polygon)
         for &ti in tris {
             let c = self.tris[ti.0 as usize].c;
             if !c.iter().any(|x| x.is_omega()) && !holds(c) {
@@ -575,6 +577,9 @@ impl Kss {
             if c[0].obj == c[1].obj || c[1].obj == c[2].obj || c[0].obj == c[2].obj {
                 return false;
             }
+        }
+        for &ti in tris {
+            let c = self.tris[ti.0 as usize].c;
             // no side crosses the polygon at the opposite corner (the sign
             // pattern alone let a pop through with a side across it:
             // gen_small grazing 2529, hierarchical)
