@@ -426,7 +426,7 @@ fn run_child(
     // with `build_time` the child first runs the construction alone, which
     // can take as long as the measured run (brute's first all-pairs pass
     // is most of its run): room for both, or a cell that finishes within
-    // its budget is killed (brute on 10^4 octagons, session 14)
+    // its budget is killed (brute on 10^4 octagons)
     let limit = if build_time {
         Duration::from_secs_f64(budget_seconds * 2.4 + 20.0)
     } else {

@@ -1,38 +1,33 @@
-//! Regression scenarios: every `testdata/regressions/NAME.json` once made a
-//! kinetic structure disagree with the brute-force reference or fail its
-//! audit (most are minimized degenerate `bounce` runs: grazing contacts,
-//! sliding along a common line, flight-plan changes that lift a sliding
-//! contact; a pop at an instant where the motions change; approximation
-//! vertices of several bodies on one line; a merge of a vertex that a
-//! certificate still named; a sliding pair whose flight plan changes at an
-//! instant with another collision; an approximation edge left sliding along
-//! a real vertex after a pop, or after a bounce; a rebuild for just after an
-//! instant where two polygons slide along each other, or three meet at a
-//! point, which the builder could not triangulate; a pop next to a corridor
-//! whose chain wraps the whole popped polygon, after local removals, the
-//! quick bench's grazing-p50; a polygon resting on another where the
-//! structure must be built afresh, where the reference stands in; a pop
-//! that put a partition triangle's side across a polygon; a middle bridge
-//! along flush edges of both its bodies, which hid a contact on that line,
-//! the two scenarios once kept as known failures; settled contacts repaired
-//! by a local retriangulation; a corridor that another corridor's operation
-//! decomposed again, by the motions from before a collision response that
-//! then changed them; two points of the hull that meet at a collision
-//! response which takes them off their common line, where the order of the
-//! three points dropped the wrong one from the hull; with the hierarchy, an
-//! approximation edge left sliding along a real vertex after two polygons
-//! touched without a collision, and two scenarios where the pops that
-//! follow such a touch came too early: before the instant's last event, or
-//! after the reference had taken over; settled contacts where a vertex lies
-//! on another polygon's edge at every instant tried, repaired locally from a
-//! shrunk copy of the region, or from a region grown by two polygons
-//! whose corridor is degenerate at the same instant, or after the
-//! collision response of an instant at which the local operations failed,
-//! or at an instant whose hull is convex just after the contact, or grown
-//! past a boundary bridge that the region's polygons cross; local
-//! operations that cycle at one instant).
-//! Each must give byte-identical
-//! output with `brute`, `plain --audit` and `hierarchical --audit`.
+//! Regression scenarios: every `testdata/regressions/NAME.json` is a
+//! minimized configuration on which a kinetic structure can disagree with
+//! the brute-force reference or fail its audit. Most are degenerate
+//! `bounce` runs: grazing contacts; sliding along a common line;
+//! flight-plan changes that lift a sliding contact; a pop at an instant
+//! where the motions change; approximation vertices of several bodies on
+//! one line; a merge of a vertex that a certificate still names; a sliding
+//! pair whose flight plan changes at an instant with another collision; an
+//! approximation edge sliding along a real vertex after a pop, after a
+//! bounce, or after two polygons touch without a collision (with the
+//! hierarchy), and the pops that follow such a touch, which must wait for
+//! the instant's last event and are dropped when the reference takes over;
+//! a rebuild for just after an instant where two polygons slide along each
+//! other, or three meet at a point; a pop next to a corridor whose chain
+//! wraps the whole popped polygon, after local removals (the quick bench's
+//! grazing-p50); a polygon resting on another where the structure must be
+//! built afresh and the reference stands in; a pop that must not put a
+//! partition triangle's side across a polygon; a middle bridge along flush
+//! edges of both its bodies, which would hide a contact on that line; a
+//! corridor that another corridor's operation decomposes by the motions
+//! from before a collision response that then changes them; two points of
+//! the hull that meet at a collision response which takes them off their
+//! common line; settled contacts repaired by a local retriangulation (a
+//! vertex on another polygon's edge at every instant tried, a region grown
+//! by two polygons whose corridor is degenerate at the same instant or past
+//! a boundary bridge that the region's polygons cross, a repair after the
+//! collision response, an instant whose hull is convex just after the
+//! contact); local operations that cycle at one instant.
+//! Each must give byte-identical output with `brute`, `plain --audit` and
+//! `hierarchical --audit`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -129,11 +124,10 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// first instant tried leaves a corridor without a decomposition just after
 /// the contact (`gen_small simultaneous 371`), and a settled contact found
 /// while another contact of the instant awaits its response, handled again
-/// after it (`gen_small simultaneous 852`). Each rebuilt globally before.
-/// Two more rebuilt until session 14, because at every instant tried a
-/// polygon's vertex lay on the other's edge (the doubles of the region put
-/// a vertex on a constraint), now triangulated from a slightly shrunk copy
-/// of the region and checked exactly: a polygon sliding along a fixed one
+/// after it (`gen_small simultaneous 852`). Two where at every instant
+/// tried a polygon's vertex lies on the other's edge (the doubles of the
+/// region put a vertex on a constraint), triangulated from a slightly shrunk
+/// copy of the region and checked exactly: a polygon sliding along a fixed one
 /// (minimized from `gen_small parallel 1325`), and a vertex left on an
 /// edge after a response (from `gen_small simultaneous 1426`), with both
 /// structures. And one whose region around the two polygons of the contact
@@ -143,27 +137,24 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
 /// operations that fail at an instant with a collision: the region around
 /// the failing certificate's polygons is repaired after the response, the
 /// events deferred meanwhile scheduled again (from `gen_small simultaneous
-/// 4298`; a global rebuild after the response before), with both
-/// structures. And a repair whose triangulation, at the instant tried, had
-/// a hull that is not convex just after the contact: the instant is now
-/// refused before the splice (two polygons, `gen_small simultaneous 4187`;
-/// the splice found the hull turn failing at once and rebuilt). And a
-/// region whose boundary bridge (between two polygons outside it) a polygon
-/// of the region crosses at once, the triangle beyond inverted just after
-/// the instant: the region grows by those two polygons (from `gen_small
-/// grazing 2447`; its constraints crossed at every instant tried). And a
-/// region whose corridor between two polygons outside it (colliding at the
-/// same instant) holds junctions against the motion, which the repair now
-/// accepts there, and whose set takes the polygons of the partition
-/// triangle whose collapse failed, not only those of the certificate popped
-/// (`gen_small grazing 15498`, four points on one line at the last instant
-/// of the run: the plain structure's last global rebuild in the 100,000
-/// sweep).
-/// Since session 16 the local operations alone follow three of them
-/// (`gen_small simultaneous 4298`, `simultaneous 4187` and `grazing 2447`:
-/// a corridor's middle bridge is now also walked, or taken between two
-/// vertices that touch, when junctions are held against the motion): no
-/// repair there any more, and still no rebuild.
+/// 4298`), with both structures. And a repair whose triangulation, at an
+/// instant tried, has a hull that is not convex just after the contact: the
+/// instant is refused before the splice (two polygons, `gen_small
+/// simultaneous 4187`). And a region whose boundary bridge (between two
+/// polygons outside it) a polygon of the region crosses at once, the
+/// triangle beyond inverted just after the instant: the region grows by
+/// those two polygons (from `gen_small grazing 2447`; its constraints cross
+/// at every instant tried). And a region whose corridor between two polygons
+/// outside it (colliding at the same instant) holds junctions against the
+/// motion, which the repair accepts there, and whose set takes the polygons
+/// of the partition triangle whose collapse failed, not only those of the
+/// certificate popped (`gen_small grazing 15498`, four points on one line at
+/// the last instant of the run).
+/// The local operations alone follow three of them (`gen_small simultaneous
+/// 4298`, `simultaneous 4187` and `grazing 2447`: a corridor's middle bridge
+/// is also walked, or taken between two vertices that touch, when junctions
+/// are held against the motion); for them the test requires no rebuild, no
+/// stand-in and fewer than 100 events.
 #[test]
 fn settled_contacts_are_repaired_locally() {
     for followed in [
@@ -207,14 +198,12 @@ fn settled_contacts_are_repaired_locally() {
 
 /// `gen_small grazing 4197` (two polygons): at one instant two touches of
 /// the pair undo each other's operation, the same certificates failing in
-/// turn. The driver's guard let it run 1152 operations at that instant and
-/// then rebuilt the whole structure; a certificate handled a fourth time at
-/// one instant is now taken as a cycle, and the region around the polygons
-/// of the last certificates handled is triangulated again for just after
-/// it. Since session 16 the cycle is first met by the alternate
-/// normalization (`Kinetic::alternate_normalization`: the decomposition
-/// holding the fewest junctions against the motion), which breaks this one
-/// with no repair.
+/// turn. A certificate handled a fourth time at one instant is taken as a
+/// cycle, which the alternate normalization
+/// (`Kinetic::alternate_normalization`: the decomposition holding the
+/// fewest junctions against the motion) breaks, with no rebuild, no
+/// stand-in and fewer than 100 events; a local repair of the region around
+/// the polygons of the last certificates handled is the fallback.
 #[test]
 fn local_operations_that_cycle_are_followed_locally() {
     for structure in ["plain", "hierarchical"] {
@@ -230,10 +219,8 @@ fn local_operations_that_cycle_are_followed_locally() {
 
 /// A polygon slides along a fixed one and its plan stops it with a vertex
 /// on the other's vertex (minimized from `gen_small simultaneous 644`):
-/// the corridor between them is pinched there and had no decomposition, so
-/// the reference stood in for the rest of the run. The bridge of length
-/// zero between the two resting vertices is now the corridor's middle
-/// bridge. The same contact then left (a plan change takes the polygon
+/// the corridor between them is pinched there, and the bridge of length
+/// zero between the two resting vertices is the corridor's middle bridge. The same contact then left (a plan change takes the polygon
 /// away) and pushed together (a plan change drives it into the other, a
 /// collision at once): the corridor's two junctions at the bridge take
 /// over again at the plan change. Both structures, no stand-in.
@@ -259,8 +246,8 @@ fn a_vertex_resting_on_a_vertex_is_a_bridge_of_length_zero() {
 /// edges to the other and back). From `gen_small parallel 3388`
 /// (minimized): two polygons stop as they meet so, the flush edges inside
 /// both chains of their corridor, whose face beyond the bridge of length
-/// zero has a cusp at it between two resting neighbours. The reference
-/// stood in on both, with both structures; both structures follow them now.
+/// zero has a cusp at it between two resting neighbours. Both structures
+/// follow both, with no stand-in of the reference.
 #[test]
 fn an_edge_resting_on_an_identical_edge_is_followed() {
     for name in [
@@ -278,17 +265,17 @@ fn an_edge_resting_on_an_identical_edge_is_followed() {
 
 /// Degenerate instants where the corridor that has to be normalized has no
 /// decomposition just after the instant until other failures of the same
-/// instant are handled, and the first decomposition that held some
-/// junctions against the motion was the wrong one (the structure was
-/// rebuilt, or the reference stood in). Minimized from `gen_small grazing
+/// instant are handled, and the choice of the decomposition that holds some
+/// junctions against the motion decides whether the local operations
+/// follow (no rebuild, no stand-in, no repair). Minimized from `gen_small grazing
 /// 12625` (a bounce at a vertex-on-vertex contact while an end bridge lies
 /// on a polygon edge's line: the middle bridge that goes with the end's
 /// slide is found by walking it), `grazing 9761` (a vertex touches a vertex
 /// as the hull changes: the corridor is pinched there, by a bridge between
 /// the two touching vertices), `parallel 6469` and `parallel 10046` (two
-/// operations handed an edge back and forth more than a thousand times at
-/// one instant: once a cycle is seen, normalization takes the
-/// decomposition that holds the fewest junctions against the motion).
+/// operations can hand an edge back and forth at one instant: once a cycle
+/// is seen, normalization takes the decomposition that holds the fewest
+/// junctions against the motion).
 #[test]
 fn degenerate_instants_are_followed_without_a_rebuild() {
     for name in [
@@ -313,7 +300,7 @@ fn degenerate_instants_are_followed_without_a_rebuild() {
 /// `gen_small gas 369`: a pop whose every candidate inverts a partition
 /// triangle at the popped vertex; the structure follows in place with an ear
 /// slide after the pop (`crates/kss/src/structure/pop.rs`) instead of a rebuild, which
-/// the statistics show (`refine_rebuilds` was 1).
+/// the statistics show (`refine_rebuilds` is 0).
 #[test]
 fn a_pop_that_inverts_a_triangle_is_repaired_in_place() {
     let v = stats_of("pop_repaired_by_an_ear_slide.json", "hierarchical");

@@ -44,9 +44,9 @@ fn plain_matches_brute_on_generic_families() {
 /// after every event. Where the local operations cannot resolve an instant
 /// the region around the polygons involved is triangulated again (a local
 /// repair); a rebuild of the whole structure stays rare: at most one
-/// scenario in 5000 (one in 200 until session 16; measured then over the
-/// 50,001 degenerate scenarios of `KSS_SLOW=1`: none with plain, 3 with
-/// the hierarchy). On CI's 1200 that allows none.
+/// scenario in 5000 (over the 50,001 degenerate scenarios of `KSS_SLOW=1`
+/// at commit 2419cf7: none with plain, 3 with the hierarchy). On CI's 1200
+/// that allows none.
 #[test]
 fn plain_matches_brute_on_degenerate_families() {
     let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);

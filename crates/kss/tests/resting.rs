@@ -98,7 +98,7 @@ fn resting_then_apart() -> Scenario {
 /// The structure follows the three polygons through the instant where
 /// they meet and `t1` rests on `t2`: the side between the two resting
 /// vertices has length zero, in a partition triangle that stays flat while
-/// they rest. Until session 15 the reference stood in from t = 3 to t = 4.
+/// they rest; the reference never stands in.
 #[test]
 fn three_polygons_meet_and_one_rests_without_the_reference() {
     let s = resting_then_apart();
@@ -240,9 +240,8 @@ fn a_contact_that_rests_for_ever_keeps_the_reference() {
 /// While they rest, the hull edge between them and the corridor junction
 /// at the touching point are turns through two resting points, which have
 /// no certificate; the motion change must give both corridors theirs
-/// back. Until session 16 the audit failed on 192 of these 200 runs ("2
-/// convex vertices" in the corridor between them) — a hand-made case no
-/// generated family produces.
+/// back, or the audit finds a corridor between them with two convex
+/// vertices. A hand-made case that no generated family produces.
 #[test]
 fn a_vertex_resting_on_a_vertex_on_the_hull_then_parted_in_any_direction() {
     let speeds = [-1.0, -0.5, 0.0, 0.5, 1.0];
@@ -546,9 +545,9 @@ fn random_contacts_that_rest_then_part() {
         "{runs} scenarios; fallbacks (stand-ins and rebuilds): plain {}, hierarchical {}",
         fallbacks[0], fallbacks[1]
     );
-    // (measured in session 16 with `KSS_SLOW=1`, 4000 scenarios: plain 28
+    // (with `KSS_SLOW=1`, 4000 scenarios, at commit 2419cf7: plain 28
     // stand-ins and 7 rebuilds, the hierarchy 29 and 7, every one where a
-    // vertex touched a vertex; not traced yet)
+    // vertex touches a vertex; not traced yet)
     for (name, f) in ["plain", "hierarchical"].iter().zip(fallbacks) {
         assert!(
             f * 50 <= runs,
