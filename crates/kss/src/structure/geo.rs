@@ -146,6 +146,65 @@ pub struct Approx {
     pub memo: EnclosureMemo,
 }
 
+/// The number of entries of a [`FacesCache`], a power of two.
+const FACES: usize = 256;
+
+/// The words a [`FacesCache`] entry is keyed by.
+pub(crate) type FacesKey = [u64; 15];
+
+/// One entry of a [`FacesCache`].
+type FacesEntry = Option<(FacesKey, Time, bool)>;
+
+/// Recent answers of [`super::Kss::faces_valid_on`], direct-mapped: a
+/// corridor's validity is a function of its two bodies' views (frame uid
+/// and exposed version), its ends, chain lengths and middle bridge, the
+/// side and the instant, which an entry holds in full: the key's words,
+/// and the instant itself, which must be known to be the same
+/// ([`Time::is_known_same`]: the same exact value or the same deferred
+/// root, never forced), since two instants can share an enclosure. One
+/// per [`Shapes`]; a clone starts empty.
+pub struct FacesCache(std::cell::RefCell<Vec<FacesEntry>>);
+
+impl Default for FacesCache {
+    fn default() -> FacesCache {
+        FacesCache(std::cell::RefCell::new(vec![None; FACES]))
+    }
+}
+
+impl Clone for FacesCache {
+    fn clone(&self) -> FacesCache {
+        FacesCache::default()
+    }
+}
+
+impl std::fmt::Debug for FacesCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "FacesCache({} entries)", FACES)
+    }
+}
+
+impl FacesCache {
+    fn slot(key: &FacesKey) -> usize {
+        let h = key
+            .iter()
+            .fold(0u64, |h, &w| (h ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        (h >> (64 - FACES.trailing_zeros())) as usize
+    }
+
+    /// The answer kept for `key` at instant `t`, if any.
+    pub(crate) fn get(&self, key: &FacesKey, t: &Time) -> Option<bool> {
+        match &self.0.borrow()[Self::slot(key)] {
+            Some((k, at, v)) if k == key && at.is_known_same(t) => Some(*v),
+            _ => None,
+        }
+    }
+
+    /// Keep answer `v` for `key` at instant `t`.
+    pub(crate) fn put(&self, key: FacesKey, t: &Time, v: bool) {
+        self.0.borrow_mut()[Self::slot(&key)] = Some((key, t.clone(), v));
+    }
+}
+
 /// How each body is seen: the real polygon, or an approximation.
 #[derive(Clone, Debug, Default)]
 pub struct Shapes {
@@ -153,6 +212,8 @@ pub struct Shapes {
     pub per: Vec<Option<Approx>>,
     /// Recently placed points ([`Geo::mid_rad`]).
     pub mids: MidCache,
+    /// Recent corridor validity answers ([`super::Kss::faces_valid_on`]).
+    pub faces: FacesCache,
 }
 
 /// The number of entries of a [`MidCache`], a power of two.
@@ -596,6 +657,14 @@ impl<'a> Geo<'a> {
         let m = self.enclose_linear(a).and_then(|l| MidRad::at(l, t));
         cell.set((key, m));
         m
+    }
+
+    /// What body `b`'s vertices are as this view sees them, as two words:
+    /// its approximation's [`Exposed::version`] (0 for the real polygon)
+    /// and its frame's [`Frame::uid`].
+    pub(crate) fn view_words(&self, b: BodyId) -> [u64; 2] {
+        let version = self.shapes.approx(b).map_or(0, |ap| ap.exposed.version());
+        [version, self.world.body(b).frame.uid()]
     }
 
     /// An enclosure of `a`'s position at a time in `t` (the f64 filter of

@@ -395,7 +395,62 @@ impl Kss {
         side: Side,
     ) -> bool {
         let sign = |j: &Junction| turn_on(world, j.prev, j.v, j.next, t, side);
-        self.faces_valid_core(world, k, mid, (t, side), &sign, true)
+        let key = self.faces_key(world, k, mid, (t, side));
+        if let Some(v) = world.shapes.faces.get(&key, t) {
+            debug_assert_eq!(
+                v,
+                self.faces_valid_core(world, k, mid, (t, side), &sign, true),
+                "the validity cache answers for another corridor: {k:?}"
+            );
+            return v;
+        }
+        let v = self.faces_valid_core(world, k, mid, (t, side), &sign, true);
+        world.shapes.faces.put(key, t, v);
+        v
+    }
+
+    /// Everything [`Kss::faces_valid_on`] reads but the instant itself, as
+    /// words: the corridor's objects, chain lengths, middle bridge and
+    /// ends, the side, the instant's enclosure, and each body's view
+    /// ([`Geo::view_words`]).
+    fn faces_key(
+        &self,
+        world: &Geo,
+        k: CorrId,
+        mid: Option<(u32, u32)>,
+        (t, side): (&Time, Side),
+    ) -> super::geo::FacesKey {
+        let c = &self.corrs[k.0 as usize];
+        let obj = |o: Obj| match o {
+            Obj::Body(b) => u64::from(b.0),
+            Obj::Omega => u64::MAX,
+        };
+        let word = |a: Att| (obj(a.obj) << 32) | u64::from(a.v);
+        let view = |o: Obj| match o {
+            Obj::Body(b) => world.view_words(b),
+            Obj::Omega => [0, 0],
+        };
+        let (a_s, b_s, a_t, b_t) = self.ends(k);
+        let [va, ua] = view(c.a);
+        let [vb, ub] = view(c.b);
+        let tiv = t.interval();
+        [
+            obj(c.a),
+            obj(c.b),
+            (u64::from(c.len_a) << 32) | u64::from(c.len_b),
+            mid.map_or(u64::MAX, |(i, j)| (u64::from(i) << 32) | u64::from(j)),
+            word(a_s),
+            word(b_s),
+            word(a_t),
+            word(b_t),
+            u64::from(side == Side::After),
+            tiv.lo.to_bits(),
+            tiv.hi.to_bits(),
+            va,
+            ua,
+            vb,
+            ub,
+        ]
     }
 
     /// [`Kss::faces_valid`] with the junction signs given by `sign`, on the

@@ -30,6 +30,7 @@ pub fn coarsest_shapes(world: &World) -> Shapes {
     Shapes {
         per: world.bodies().iter().map(coarsest_shape).collect(),
         mids: Default::default(),
+        faces: Default::default(),
     }
 }
 
