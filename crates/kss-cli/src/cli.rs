@@ -7,7 +7,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 /// Exact kinetic collision detection for moving convex polygons.
 ///
 /// Scenario files and the event output follow the contract in
-/// shared/spec/scenario.md: events go to standard output as JSON lines,
+/// docs/scenario-format.md: events go to standard output as JSON lines,
 /// everything else to standard error.
 #[derive(Debug, Parser)]
 #[command(name = "kss", version)]

@@ -1,5 +1,5 @@
 //! Reading and writing scenario files (the JSON format of the contract,
-//! `shared/spec/scenario.md`).
+//! `docs/scenario-format.md`).
 //!
 //! Reading goes through [`serde_json::Value`] (parsed with correct rounding:
 //! the workspace enables serde_json's `float_roundtrip`) and then walks the

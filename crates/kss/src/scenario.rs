@@ -1,4 +1,4 @@
-//! Plain data types for scenarios (the contract in `shared/spec/scenario.md`)
+//! Plain data types for scenarios (the contract in `docs/scenario-format.md`)
 //! and their semantic validation.
 //!
 //! The library never parses JSON: the `kss` binary reads the file and builds a

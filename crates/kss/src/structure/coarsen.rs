@@ -1,7 +1,7 @@
 //! Coarsening: undoing a pop where the polygons have moved apart again, so
 //! that long runs and repeated encounters stay cheap (the paper's Fig. 9
-//! shows the hierarchy shifting; it gives no rule, the one here follows
-//! `shared/design/algorithm.md` B.6).
+//! shows the hierarchy shifting; it gives no rule: the one here is stated in
+//! `docs/design/hierarchy.md`, "Coarsening").
 //!
 //! Id `k` of body `B` may leave the exposed set when `[p, k]` and `[k, q]`
 //! are the two halves of one dyadic block (`p`, `q` its exposed neighbours:

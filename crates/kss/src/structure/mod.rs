@@ -1,7 +1,7 @@
 //! The kinetic separation structure (KSS) for convex polygons, section 2 of
 //! Kirkpatrick & Speckmann, specialised to convex objects (see
-//! `ARCHITECTURE.md` for the conventions and where we depart from the note
-//! in `shared/design/algorithm.md`).
+//! `ARCHITECTURE.md` and `docs/design/structure.md` for the conventions and
+//! the rules).
 //!
 //! The free space between the `k` polygons and the point at infinity `ω` is
 //! cut by `2k − 2` *partition triangles* (corners on three different objects)

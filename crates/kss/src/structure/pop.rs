@@ -414,7 +414,7 @@ impl Kss {
             eprintln!("pop {a:?} candidate {j}/{candidates} {side:?}: lengths ok {ok}");
             let (mut corrs, mut tris) = (corr_ids.clone(), tri_ids.clone());
             // a chain that wraps the whole polygon (one corridor along all
-            // of it) defeats the local checks: a candidate once let a
+            // of it) defeats the local checks: a candidate can then let a
             // bridge cross the popped polygon (grazing-p50 of the quick
             // bench, after local removals); such a pop rebuilds
             let wraps = chains.iter().any(|r| r.start == r.end && r.len > 0);
