@@ -19,6 +19,9 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+
+/// A map with the fast fixed hasher (keys are addresses and small ids).
+type FastMap<K, V> = HashMap<K, V, foldhash::fast::FixedState>;
 use std::sync::Arc;
 
 use crate::motion::Frame;
@@ -60,10 +63,10 @@ struct Memo {
     at: Option<Time>,
     /// The frames of the keys by address (held, so that no address is
     /// reused meanwhile).
-    frames: HashMap<usize, Arc<Frame>>,
+    frames: FastMap<usize, Arc<Frame>>,
     /// Sorted triple, after (`true`) or before the instant: the sign of the
     /// sorted triple's orientation.
-    signs: HashMap<([PointKey; 3], bool), Sign>,
+    signs: FastMap<([PointKey; 3], bool), Sign>,
 }
 
 thread_local! {
