@@ -9,6 +9,9 @@
 
 use std::collections::HashMap;
 
+/// A map with the fast fixed hasher (keys are indices and points).
+type FastMap<K, V> = HashMap<K, V, foldhash::fast::FixedState>;
+
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::geo::Geo;
@@ -94,6 +97,10 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
     let mut exact: Vec<Point> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
     let mut pts: Vec<Point2<f64>> = Vec::new();
+    // each vertex placed once in midpoint–radius form, for the filter of
+    // the triangles' orientations
+    let tiv = t.interval();
+    let mut mids: Vec<Option<crate::geom::MidRad>> = Vec::new();
     for (i, body) in world.bodies().iter().enumerate() {
         if !body.alive {
             continue;
@@ -104,6 +111,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
         for (x, &v) in ids.iter().enumerate() {
             let a = Att::vertex(BodyId(i as u32), v);
             atts.push(a);
+            mids.push(world.mid_rad(a, tiv));
             let p = world.position(a, t).expect("a finite point");
             let f = p.to_f64();
             exact.push(p);
@@ -148,14 +156,24 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
         .inner_faces()
         .map(|f| f.vertices().map(|h| h.fix().index()))
         .collect();
+    // the exact orientation at `t`, through the f64 filter (which decides
+    // a sign only where it is the exact one at every time in `t`'s
+    // enclosure)
+    let exact_sign = |[u, v, w]: [usize; 3]| {
+        let filtered = match (mids[u], mids[v], mids[w]) {
+            (Some(a), Some(b), Some(c)) => crate::geom::orient_mid_rad(a, b, c),
+            _ => None,
+        };
+        filtered.unwrap_or_else(|| orient(&exact[u], &exact[v], &exact[w]))
+    };
     let raw = match shrink {
-        None => split_flat_triangles(raw, &exact)?,
+        None => split_flat_triangles(raw, &exact, &exact_sign)?,
         Some(_) => raw,
     };
     let mut tris: Vec<[usize; 3]> = Vec::with_capacity(raw.len());
-    let mut directed: HashMap<(usize, usize), ()> = HashMap::new();
+    let mut directed: FastMap<(usize, usize), ()> = FastMap::default();
     for [u, v, w] in raw {
-        let sign = orient(&exact[u], &exact[v], &exact[w]);
+        let sign = exact_sign([u, v, w]);
         let sign = match shrink {
             None => sign,
             Some(_) => shrunk_orientation(sign, orient(&rounded[u], &rounded[v], &rounded[w]))
@@ -210,13 +228,14 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
         }
     }
     // Adjacency: directed side -> (face, side index).
-    let mut side_of: HashMap<(Att, Att), (usize, usize)> = HashMap::with_capacity(3 * faces.len());
+    let mut side_of: FastMap<(Att, Att), (usize, usize)> =
+        FastMap::with_capacity_and_hasher(3 * faces.len(), Default::default());
     for (fi, f) in faces.iter().enumerate() {
         for i in 0..3 {
             side_of.insert((f[i], f[(i + 1) % 3]), (fi, i));
         }
     }
-    let mut tri_id: HashMap<usize, TriId> = HashMap::new();
+    let mut tri_id: FastMap<usize, TriId> = FastMap::default();
     let mut kss = Kss::default();
     for (fi, f) in faces.iter().enumerate() {
         if is_partition(f) {
@@ -311,8 +330,9 @@ pub(super) fn cross_two_object_face(g: &[Att; 3], sj: usize, a: Obj) -> ((Att, A
 fn split_flat_triangles(
     mut tris: Vec<[usize; 3]>,
     exact: &[Point],
+    sign: &dyn Fn([usize; 3]) -> Sign,
 ) -> Result<Vec<[usize; 3]>, BuildError> {
-    let flat = |t: &[usize; 3]| orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]) == Sign::Zero;
+    let flat = |t: &[usize; 3]| sign(*t) == Sign::Zero;
     // `m` strictly between `a` and `b` on their line
     let between = |a: usize, m: usize, b: usize| {
         exact[a].sub(&exact[m]).dot(&exact[b].sub(&exact[m])).sign() == Sign::Negative
@@ -514,18 +534,20 @@ mod larger_tests {
     fn a_flat_triangle_is_split_at_its_middle_point() {
         // u, v, w on one line; x above it
         let exact = [pt(0, 0), pt(1, 0), pt(2, 0), pt(1, 1)];
-        let out = split_flat_triangles(vec![[0, 1, 2], [2, 0, 3]], &exact).unwrap();
+        let sign = |t: [usize; 3]| orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]);
+        let out = split_flat_triangles(vec![[0, 1, 2], [2, 0, 3]], &exact, &sign).unwrap();
         assert_eq!(out.len(), 2);
         for t in &out {
             assert_ne!(orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]), Sign::Zero);
             assert!(t.contains(&1) && t.contains(&3));
         }
         // on the hull: dropped
-        assert!(split_flat_triangles(vec![[0, 1, 2]], &exact)
+        assert!(split_flat_triangles(vec![[0, 1, 2]], &exact, &sign)
             .unwrap()
             .is_empty());
         // coincident corners are an error
         let same = [pt(0, 0), pt(0, 0), pt(2, 0)];
-        assert!(split_flat_triangles(vec![[0, 1, 2]], &same).is_err());
+        let sign = |t: [usize; 3]| orient(&same[t[0]], &same[t[1]], &same[t[2]]);
+        assert!(split_flat_triangles(vec![[0, 1, 2]], &same, &sign).is_err());
     }
 }

@@ -369,41 +369,33 @@ pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), S
     Ok(())
 }
 
-/// The pairs of alive bodies whose approximations' bounding boxes (widened
-/// outwards, so that rounding never hides an overlap) meet at time `t`.
+/// The pairs of alive bodies whose approximations' bounding boxes meet at
+/// time `t`, the boxes enclosing the vertices' exact positions
+/// ([`Geo::seen_box`]), so that rounding never hides an overlap.
 fn box_pairs(world: &World, shapes: &Shapes, t: &Rational) -> Vec<(BodyId, BodyId)> {
-    let boxes: Vec<Option<[f64; 4]>> = {
-        let geo = Geo { world, shapes };
-        world
-            .bodies()
-            .iter()
-            .enumerate()
-            .map(|(i, body)| {
-                body.alive.then(|| {
-                    let id = BodyId(i as u32);
-                    let mut bx = [
-                        f64::INFINITY,
-                        f64::INFINITY,
+    let geo = Geo { world, shapes };
+    let tiv = t.interval();
+    let boxes: Vec<Option<[f64; 4]>> = world
+        .bodies()
+        .iter()
+        .enumerate()
+        .map(|(i, body)| {
+            body.alive.then(|| {
+                // the enclosures of the approximation's vertices at `t`
+                // (rigorous: an overlap is never hidden); a box that is
+                // not finite meets every other one
+                match geo.seen_box(BodyId(i as u32), tiv) {
+                    Some([x, y]) => [x.lo, y.lo, x.hi, y.hi],
+                    None => [
                         f64::NEG_INFINITY,
                         f64::NEG_INFINITY,
-                    ];
-                    for v in geo.ids(id) {
-                        let p = geo
-                            .position(Att::vertex(id, v), t)
-                            .expect("a finite point")
-                            .to_f64();
-                        // widened outwards: rounding never hides an overlap
-                        let pad = |x: f64| x.abs() * 1e-9 + 1e-300;
-                        bx[0] = bx[0].min(p[0] - pad(p[0]));
-                        bx[1] = bx[1].min(p[1] - pad(p[1]));
-                        bx[2] = bx[2].max(p[0] + pad(p[0]));
-                        bx[3] = bx[3].max(p[1] + pad(p[1]));
-                    }
-                    bx
-                })
+                        f64::INFINITY,
+                        f64::INFINITY,
+                    ],
+                }
             })
-            .collect()
-    };
+        })
+        .collect();
     let mut order: Vec<usize> = (0..boxes.len()).filter(|&i| boxes[i].is_some()).collect();
     order.sort_by(|&i, &j| {
         let (x, y) = (boxes[i].expect("alive"), boxes[j].expect("alive"));
