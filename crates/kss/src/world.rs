@@ -59,8 +59,10 @@ pub struct Body {
     pub frame: Arc<Frame>,
     /// Area (for bounce masses), as a double.
     pub area: f64,
-    /// Area centroid in the body frame.
-    pub centroid: Point,
+    /// Area centroid in the body frame ([`Body::centroid`]), computed
+    /// when first asked for (only a bounce between non-parallel edges
+    /// needs it).
+    centroid: std::sync::OnceLock<Point>,
     /// Pending re-anchoring at the end of a bridge (see module docs).
     anchor: Option<(Time, u64)>,
     /// `traj`'s origin and velocity rounded to doubles, for box filters.
@@ -105,7 +107,6 @@ impl Body {
         let traj = Trajectory::through(t, &position, velocity);
         let frame = Arc::new(Frame::new(&traj, &shape));
         let area = shape.twice_area().to_f64() / 2.0;
-        let centroid = shape.centroid();
         let motion = motion_f64(&traj);
         Ok(Body {
             motion_f64: motion,
@@ -116,9 +117,14 @@ impl Body {
             traj,
             frame,
             area,
-            centroid,
+            centroid: std::sync::OnceLock::new(),
             anchor: None,
         })
+    }
+
+    /// The area centroid in the body frame, exactly.
+    pub fn centroid(&self) -> &Point {
+        self.centroid.get_or_init(|| self.shape.centroid())
     }
 
     /// A box `[x_min, x_max, y_min, y_max]` that holds the polygon at time
@@ -831,8 +837,8 @@ impl World {
         let normal = if all_parallel {
             edge_normals[0].clone()
         } else {
-            let ca = ba.traj.position_at(t).add(&ba.centroid);
-            let cb = bb.traj.position_at(t).add(&bb.centroid);
+            let ca = ba.traj.position_at(t).add(ba.centroid());
+            let cb = bb.traj.position_at(t).add(bb.centroid());
             cb.sub(&ca)
         };
         Some(ContactGeometry {
@@ -848,7 +854,7 @@ impl World {
     pub fn contact_point(&self, a: BodyId, b: BodyId, t: &Rational) -> [f64; 2] {
         let (ba, bb) = (self.body(a), self.body(b));
         let Some(c) = self.contact(a, b, t) else {
-            return ba.traj.position_at(t).add(&ba.centroid).to_f64();
+            return ba.traj.position_at(t).add(ba.centroid()).to_f64();
         };
         let (na, nb) = (ba.shape.len(), bb.shape.len());
         // each candidate against every edge of both polygons: the f64

@@ -765,6 +765,13 @@ impl<'a> Geo<'a> {
         match self.shapes.approx(b) {
             None => Some(body.vertex_at(a.v as usize, t)),
             Some(ap) => {
+                // a real vertex from the polygon's own coordinates (no
+                // homogeneous point to reduce)
+                let k = a.v as usize;
+                let real = ap.exposed.contains(k).then(|| ap.exposed.pred(k));
+                if let Some(v) = real.flatten().and_then(|i| ap.array.av_is_real(i, k)) {
+                    return Some(body.vertex_at(v, t));
+                }
                 let h = ap
                     .array
                     .vertex_of(&body.shape, &ap.exposed, a.v as usize)
