@@ -144,6 +144,69 @@ pub struct Approx {
     pub exposed: Exposed,
     /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
     pub memo: EnclosureMemo,
+    /// Recent answers of [`Approx::prev_visible`] and
+    /// [`Approx::next_visible`].
+    pub links: LinkMemo,
+}
+
+/// The number of entries of a [`LinkMemo`] per direction, a power of two.
+const LINKS: usize = 64;
+
+/// Recent visible neighbours of exposed ids, direct-mapped by id: entries
+/// `(exposed version, id, neighbour)` for each direction, valid for the
+/// exposed set of that version only ([`Exposed::version`] is never
+/// reused, so a pop or a merge leaves every entry unused). A clone starts
+/// empty.
+pub struct LinkMemo {
+    prev: Box<[std::cell::Cell<(u64, u32, u32)>]>,
+    next: Box<[std::cell::Cell<(u64, u32, u32)>]>,
+}
+
+impl Default for LinkMemo {
+    fn default() -> LinkMemo {
+        let empty = || {
+            (0..LINKS)
+                .map(|_| std::cell::Cell::new((0, 0, 0)))
+                .collect()
+        };
+        LinkMemo {
+            prev: empty(),
+            next: empty(),
+        }
+    }
+}
+
+impl Clone for LinkMemo {
+    fn clone(&self) -> LinkMemo {
+        LinkMemo::default()
+    }
+}
+
+impl std::fmt::Debug for LinkMemo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "LinkMemo({LINKS} entries per direction)")
+    }
+}
+
+impl LinkMemo {
+    /// The neighbour of `k` kept in `cells` for exposed version `version`,
+    /// or computed by `walk` and kept.
+    #[inline]
+    fn answer(
+        cells: &[std::cell::Cell<(u64, u32, u32)>],
+        version: u64,
+        k: usize,
+        walk: impl FnOnce() -> usize,
+    ) -> usize {
+        let cell = &cells[k & (LINKS - 1)];
+        let (v, key, n) = cell.get();
+        if v == version && key as usize == k {
+            return n as usize;
+        }
+        let n = walk();
+        cell.set((version, k as u32, n as u32));
+        n
+    }
 }
 
 /// The number of entries of a [`FacesCache`], a power of two.
@@ -272,6 +335,17 @@ impl Approx {
 
     /// The visible id after `k` (counter-clockwise).
     pub fn next_visible(&self, k: usize) -> usize {
+        let version = self.exposed.version();
+        LinkMemo::answer(&self.links.next, version, k, || self.next_visible_walk(k))
+    }
+
+    /// The visible id before `k` (clockwise).
+    pub fn prev_visible(&self, k: usize) -> usize {
+        let version = self.exposed.version();
+        LinkMemo::answer(&self.links.prev, version, k, || self.prev_visible_walk(k))
+    }
+
+    fn next_visible_walk(&self, k: usize) -> usize {
         let mut x = self.exposed.succ(k).expect("a non-empty set");
         while self.hidden(x) && x != k {
             x = self.exposed.succ(x).expect("a non-empty set");
@@ -279,8 +353,7 @@ impl Approx {
         x
     }
 
-    /// The visible id before `k` (clockwise).
-    pub fn prev_visible(&self, k: usize) -> usize {
+    fn prev_visible_walk(&self, k: usize) -> usize {
         let mut x = self.exposed.pred(k).expect("a non-empty set");
         while self.hidden(x) && x != k {
             x = self.exposed.pred(x).expect("a non-empty set");

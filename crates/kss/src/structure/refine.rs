@@ -44,6 +44,7 @@ pub fn coarsest_shape(b: &Body) -> Option<Approx> {
             array,
             exposed,
             memo,
+            links: Default::default(),
         }
     })
 }
