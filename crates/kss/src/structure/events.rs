@@ -238,10 +238,8 @@ pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyI
     // only between two approximations, and only where the three points are
     // collinear at `t` (the filter rules that out cheaply)
     let approximated = |a: Att| matches!(a.obj, Obj::Body(b) if world.shapes.approx(b).is_some());
-    if !p.iter().all(|&a| approximated(a))
-        || world
-            .orient_filtered(p[0], p[1], p[2], t.interval())
-            .is_some()
+    let tiv = t.interval();
+    if !p.iter().all(|&a| approximated(a)) || world.orient_filtered(p[0], p[1], p[2], tiv).is_some()
     {
         return None;
     }
@@ -254,9 +252,13 @@ pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyI
     if orient_poly(&pts[0], &pts[1], &pts[2]).sign_at(t) != Sign::Zero {
         return None;
     }
-    // (a − m)·(b − m) < 0
+    // (a − m)·(b − m) < 0 (the f64 filter first: a sign it decides is
+    // the one at every time in `t`'s enclosure)
     let strictly_between = |m: usize, a: usize, b: usize| {
-        dot_poly(&pts[m], &pts[a], &pts[b]).sign_at(t) == Sign::Negative
+        let s = world
+            .dot_filtered(p[a], p[m], p[b], tiv)
+            .unwrap_or_else(|| dot_poly(&pts[m], &pts[a], &pts[b]).sign_at(t));
+        s == Sign::Negative
     };
     let m = (0..3).find(|&m| strictly_between(m, (m + 1) % 3, (m + 2) % 3))?;
     let (w, x, y) = (p[m], p[(m + 1) % 3], p[(m + 2) % 3]);
@@ -278,9 +280,13 @@ pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyI
     let ap = world.shapes.approx(v)?;
     world.shapes.approx(u)?;
     let (px, py) = (&pts[(m + 1) % 3], &pts[(m + 2) % 3]);
-    // `w` alone on the line among its approximation's vertices
+    // `w` alone on the line among its approximation's vertices (a turn the
+    // filter decides is not zero)
     for nb in [world.ccw(w), world.cw(w, 1)] {
-        if orient_poly(px, py, &world.point(nb)).sign_at(t) == Sign::Zero {
+        let off = world
+            .orient_filtered(p[(m + 1) % 3], p[(m + 2) % 3], nb, tiv)
+            .is_some();
+        if !off && orient_poly(px, py, &world.point(nb)).sign_at(t) == Sign::Zero {
             return None;
         }
     }
