@@ -208,13 +208,15 @@ impl Kss {
         let a_i = Att::vertex(b, i as u32);
         // the triangles with a corner at `v`, and every corridor along `B`
         let [at_v, at_i] = self.corners_at([a, a_i]);
-        let chains: Vec<ChainRec> = (0..self.corrs.len())
-            .filter_map(|ki| {
+        let on_body = |o: Obj| matches!(o, Obj::Body(x) if x == b);
+        let chains: Vec<ChainRec> = self
+            .corrs
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| on_body(c.a) || on_body(c.b))
+            .filter_map(|(ki, _)| {
                 let kid = CorrId(ki as u32);
                 let c = &self.corrs[ki];
-                if c.a != body && c.b != body {
-                    return None;
-                }
                 let on_a = c.a == body;
                 let (a_s, b_s, a_t, b_t) = self.ends(kid);
                 let (start, end, len) = if on_a {
