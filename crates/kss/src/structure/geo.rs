@@ -144,22 +144,24 @@ pub struct Approx {
     pub exposed: Exposed,
     /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
     pub memo: EnclosureMemo,
-    /// Recent answers of [`Approx::prev_visible`] and
-    /// [`Approx::next_visible`].
-    pub links: LinkMemo,
 }
 
 /// The number of entries of a [`LinkMemo`] per direction, a power of two.
-const LINKS: usize = 64;
+const LINKS: usize = 256;
 
-/// Recent visible neighbours of exposed ids, direct-mapped by id: entries
-/// `(exposed version, id, neighbour)` for each direction, valid for the
-/// exposed set of that version only ([`Exposed::version`] is never
-/// reused, so a pop or a merge leaves every entry unused). A clone starts
-/// empty.
+/// One entry of a [`LinkMemo`]: the exposed set's version, the body and id
+/// (`body << 32 | id`), and the neighbour.
+type LinkEntry = (u64, u64, u32);
+
+/// Recent visible neighbours of exposed ids ([`Approx::prev_visible`],
+/// [`Approx::next_visible`]), direct-mapped, for each direction: an entry
+/// holds the body, the id and the exposed set's version, and answers for
+/// that set only ([`Exposed::version`] is never reused, so a pop or a
+/// merge leaves every entry of the body unused). One per [`Shapes`]; a
+/// clone starts empty.
 pub struct LinkMemo {
-    prev: Box<[std::cell::Cell<(u64, u32, u32)>]>,
-    next: Box<[std::cell::Cell<(u64, u32, u32)>]>,
+    prev: Box<[std::cell::Cell<LinkEntry>]>,
+    next: Box<[std::cell::Cell<LinkEntry>]>,
 }
 
 impl Default for LinkMemo {
@@ -189,23 +191,41 @@ impl std::fmt::Debug for LinkMemo {
 }
 
 impl LinkMemo {
-    /// The neighbour of `k` kept in `cells` for exposed version `version`,
-    /// or computed by `walk` and kept.
+    /// The neighbour of id `k` of body `b` seen through `ap`, kept in
+    /// `cells`, or computed by `walk` and kept.
     #[inline]
     fn answer(
-        cells: &[std::cell::Cell<(u64, u32, u32)>],
-        version: u64,
+        cells: &[std::cell::Cell<LinkEntry>],
+        (b, ap): (BodyId, &Approx),
         k: usize,
-        walk: impl FnOnce() -> usize,
+        walk: impl FnOnce(&Approx) -> usize,
     ) -> usize {
-        let cell = &cells[k & (LINKS - 1)];
+        let version = ap.exposed.version();
+        let id = (u64::from(b.0) << 32) | k as u64;
+        let h = (id ^ version.rotate_left(32)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let cell = &cells[(h >> (64 - LINKS.trailing_zeros())) as usize];
         let (v, key, n) = cell.get();
-        if v == version && key as usize == k {
+        if v == version && key == id {
+            debug_assert_eq!(
+                n as usize,
+                walk(ap),
+                "the link memo answers for another set"
+            );
             return n as usize;
         }
-        let n = walk();
-        cell.set((version, k as u32, n as u32));
+        let n = walk(ap);
+        cell.set((version, id, n as u32));
         n
+    }
+
+    /// [`Approx::prev_visible`] of body `b`'s approximation `ap`.
+    pub fn prev_visible(&self, b: BodyId, ap: &Approx, k: usize) -> usize {
+        Self::answer(&self.prev, (b, ap), k, |ap| ap.prev_visible(k))
+    }
+
+    /// [`Approx::next_visible`] of body `b`'s approximation `ap`.
+    pub fn next_visible(&self, b: BodyId, ap: &Approx, k: usize) -> usize {
+        Self::answer(&self.next, (b, ap), k, |ap| ap.next_visible(k))
     }
 }
 
@@ -277,6 +297,8 @@ pub struct Shapes {
     pub mids: MidCache,
     /// Recent corridor validity answers ([`super::Kss::faces_valid_on`]).
     pub faces: FacesCache,
+    /// Recent visible neighbours of approximation ids.
+    pub links: LinkMemo,
 }
 
 /// The number of entries of a [`MidCache`], a power of two.
@@ -335,17 +357,6 @@ impl Approx {
 
     /// The visible id after `k` (counter-clockwise).
     pub fn next_visible(&self, k: usize) -> usize {
-        let version = self.exposed.version();
-        LinkMemo::answer(&self.links.next, version, k, || self.next_visible_walk(k))
-    }
-
-    /// The visible id before `k` (clockwise).
-    pub fn prev_visible(&self, k: usize) -> usize {
-        let version = self.exposed.version();
-        LinkMemo::answer(&self.links.prev, version, k, || self.prev_visible_walk(k))
-    }
-
-    fn next_visible_walk(&self, k: usize) -> usize {
         let mut x = self.exposed.succ(k).expect("a non-empty set");
         while self.hidden(x) && x != k {
             x = self.exposed.succ(x).expect("a non-empty set");
@@ -353,7 +364,8 @@ impl Approx {
         x
     }
 
-    fn prev_visible_walk(&self, k: usize) -> usize {
+    /// The visible id before `k` (clockwise).
+    pub fn prev_visible(&self, k: usize) -> usize {
         let mut x = self.exposed.pred(k).expect("a non-empty set");
         while self.hidden(x) && x != k {
             x = self.exposed.pred(x).expect("a non-empty set");
@@ -444,7 +456,7 @@ impl<'a> Geo<'a> {
                 // (no O(|S|) count of the visible ids first)
                 let mut x = a.v as usize;
                 for _ in 0..k {
-                    x = ap.prev_visible(x);
+                    x = self.shapes.links.prev_visible(b, ap, x);
                 }
                 x as u32
             }
@@ -474,7 +486,7 @@ impl<'a> Geo<'a> {
                     if x == to.v as usize {
                         return Some(d);
                     }
-                    x = ap.prev_visible(x);
+                    x = self.shapes.links.prev_visible(b, ap, x);
                     if x == from.v as usize {
                         return None;
                     }
@@ -491,7 +503,7 @@ impl<'a> Geo<'a> {
         };
         let v = match self.shapes.approx(b) {
             None => (a.v + 1) % self.world.body(b).shape.len() as u32,
-            Some(ap) => ap.next_visible(a.v as usize) as u32,
+            Some(ap) => self.shapes.links.next_visible(b, ap, a.v as usize) as u32,
         };
         Att { obj: a.obj, v }
     }

@@ -31,6 +31,7 @@ pub fn coarsest_shapes(world: &World) -> Shapes {
         per: world.bodies().iter().map(coarsest_shape).collect(),
         mids: Default::default(),
         faces: Default::default(),
+        links: Default::default(),
     }
 }
 
@@ -44,7 +45,6 @@ pub fn coarsest_shape(b: &Body) -> Option<Approx> {
             array,
             exposed,
             memo,
-            links: Default::default(),
         }
     })
 }
