@@ -94,7 +94,6 @@ pub(super) const SHRINKS: [f64; 3] = [
 fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, BuildError> {
     // Global vertex numbering.
     let mut atts: Vec<Att> = Vec::new();
-    let mut exact: Vec<Point> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
     let mut pts: Vec<Point2<f64>> = Vec::new();
     // each vertex placed once in midpoint–radius form, for the filter of
@@ -112,9 +111,10 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
             let a = Att::vertex(BodyId(i as u32), v);
             atts.push(a);
             mids.push(world.mid_rad(a, tiv));
-            let p = world.position(a, t).expect("a finite point");
-            let f = p.to_f64();
-            exact.push(p);
+            // (the exact position is not kept: the filter decides almost
+            // every orientation, and the few it does not place their
+            // points again)
+            let f = world.position(a, t).expect("a finite point").to_f64();
             pts.push(Point2::new(f[0], f[1]));
             edges.push([base + x, base + (x + 1) % n]);
         }
@@ -159,12 +159,13 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
     // the exact orientation at `t`, through the f64 filter (which decides
     // a sign only where it is the exact one at every time in `t`'s
     // enclosure)
+    let exact = |u: usize| world.position(atts[u], t).expect("a finite point");
     let exact_sign = |[u, v, w]: [usize; 3]| {
         let filtered = match (mids[u], mids[v], mids[w]) {
             (Some(a), Some(b), Some(c)) => crate::geom::orient_mid_rad(a, b, c),
             _ => None,
         };
-        filtered.unwrap_or_else(|| orient(&exact[u], &exact[v], &exact[w]))
+        filtered.unwrap_or_else(|| orient(&exact(u), &exact(v), &exact(w)))
     };
     let raw = match shrink {
         None => split_flat_triangles(raw, &exact, &exact_sign)?,
@@ -329,13 +330,14 @@ pub(super) fn cross_two_object_face(g: &[Att; 3], sj: usize, a: Obj) -> ((Att, A
 /// through `v`.
 fn split_flat_triangles(
     mut tris: Vec<[usize; 3]>,
-    exact: &[Point],
+    exact: &dyn Fn(usize) -> Point,
     sign: &dyn Fn([usize; 3]) -> Sign,
 ) -> Result<Vec<[usize; 3]>, BuildError> {
     let flat = |t: &[usize; 3]| sign(*t) == Sign::Zero;
     // `m` strictly between `a` and `b` on their line
     let between = |a: usize, m: usize, b: usize| {
-        exact[a].sub(&exact[m]).dot(&exact[b].sub(&exact[m])).sign() == Sign::Negative
+        let pm = exact(m);
+        exact(a).sub(&pm).dot(&exact(b).sub(&pm)).sign() == Sign::Negative
     };
     for _ in 0..4 * tris.len() + 16 {
         let Some(fi) = tris.iter().position(flat) else {
@@ -535,19 +537,21 @@ mod larger_tests {
         // u, v, w on one line; x above it
         let exact = [pt(0, 0), pt(1, 0), pt(2, 0), pt(1, 1)];
         let sign = |t: [usize; 3]| orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]);
-        let out = split_flat_triangles(vec![[0, 1, 2], [2, 0, 3]], &exact, &sign).unwrap();
+        let point = |i: usize| exact[i].clone();
+        let out = split_flat_triangles(vec![[0, 1, 2], [2, 0, 3]], &point, &sign).unwrap();
         assert_eq!(out.len(), 2);
         for t in &out {
             assert_ne!(orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]), Sign::Zero);
             assert!(t.contains(&1) && t.contains(&3));
         }
         // on the hull: dropped
-        assert!(split_flat_triangles(vec![[0, 1, 2]], &exact, &sign)
+        assert!(split_flat_triangles(vec![[0, 1, 2]], &point, &sign)
             .unwrap()
             .is_empty());
         // coincident corners are an error
         let same = [pt(0, 0), pt(0, 0), pt(2, 0)];
         let sign = |t: [usize; 3]| orient(&same[t[0]], &same[t[1]], &same[t[2]]);
-        assert!(split_flat_triangles(vec![[0, 1, 2]], &same, &sign).is_err());
+        let point = |i: usize| same[i].clone();
+        assert!(split_flat_triangles(vec![[0, 1, 2]], &point, &sign).is_err());
     }
 }
