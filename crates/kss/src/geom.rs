@@ -402,6 +402,15 @@ const EPS: f64 = f64::EPSILON / 2.0;
 const TINY: f64 = 1e-300;
 
 impl MidRad {
+    /// Whether the two points are certainly apart: their midpoints differ
+    /// in one coordinate by more than the two radii (with a margin for the
+    /// rounding of the difference, the sum and the product).
+    #[inline]
+    pub fn apart(self, other: MidRad) -> bool {
+        let reach = (self.r + other.r) * (1.0 + 8.0 * f64::EPSILON) + f64::MIN_POSITIVE;
+        (self.x - other.x).abs() > reach || (self.y - other.y).abs() > reach
+    }
+
     /// The position `(x0 + x1·t, y0 + y1·t)` for some `x0, x1, y0, y1` in
     /// the enclosures `lin` and a time in `t`; `None` if a value is not
     /// finite. Every rounding of the computation is bounded into the radius:
@@ -471,6 +480,66 @@ pub fn orient_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two midpoint–radius forms that both hold one point are never
+    /// called apart, at scales from 1e-300 to 1e300.
+    #[test]
+    fn mid_rad_points_holding_one_point_are_never_apart() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for scale in [1e-300, 1e-9, 1.0, 1e9, 1e300] {
+            for _ in 0..2000 {
+                // one point P, two midpoints near it, radii that reach it
+                let (px, py) = (next() * scale, next() * scale);
+                let near = |d: f64| d * scale * 1e-6;
+                let (ax, ay) = (px + near(next()), py + near(next()));
+                let (bx, by) = (px + near(next()), py + near(next()));
+                let reach = |mx: f64, my: f64| ((mx - px).abs().max((my - py).abs())) * 1.5;
+                let a = MidRad {
+                    x: ax,
+                    y: ay,
+                    r: reach(ax, ay),
+                };
+                let b = MidRad {
+                    x: bx,
+                    y: by,
+                    r: reach(bx, by),
+                };
+                assert!(
+                    !a.apart(b) && !b.apart(a),
+                    "{a:?} {b:?} both hold ({px}, {py})"
+                );
+            }
+        }
+        let a = MidRad {
+            x: 0.0,
+            y: 0.0,
+            r: 1.0,
+        };
+        assert!(
+            !a.apart(MidRad {
+                x: 2.0,
+                y: 0.0,
+                r: 1.0
+            }),
+            "touching"
+        );
+        assert!(a.apart(MidRad {
+            x: 2.5,
+            y: 0.0,
+            r: 1.0
+        }));
+        assert!(a.apart(MidRad {
+            x: 0.0,
+            y: -2.5,
+            r: 1.0
+        }));
+    }
 
     /// The midpoint–radius filter never contradicts the exact sign: points
     /// on a grid (so that many triples are collinear or nearly so), each

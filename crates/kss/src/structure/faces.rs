@@ -163,11 +163,11 @@ pub fn coincide_at(world: &Geo, x: Att, y: Att, t: &Time) -> bool {
     if x.obj == y.obj || x.is_omega() || y.is_omega() {
         return false;
     }
-    // (two enclosures at `t` that are apart in one coordinate: the cheap
-    // test)
+    // (two positions at `t` that are apart in one coordinate by more than
+    // their radii: the cheap test)
     let ti = t.interval();
-    if let (Some(ex), Some(ey)) = (world.enclose(x, ti), world.enclose(y, ti)) {
-        if ex.iter().zip(&ey).any(|(a, b)| !a.overlaps(b)) {
+    if let (Some(mx), Some(my)) = (world.mid_rad(x, ti), world.mid_rad(y, ti)) {
+        if mx.apart(my) {
             return false;
         }
     }
