@@ -172,6 +172,7 @@ struct Change {
 }
 
 /// Where two touching bodies touch.
+#[derive(Clone, Debug)]
 struct ContactGeometry {
     /// The contract's normal, from `a` to `b`.
     normal: Point,
@@ -206,6 +207,25 @@ pub struct World {
     /// The instant of the last bounce and how often each pair was resolved then.
     bounce_instant: Option<Rational>,
     bounce_rounds: BTreeMap<(BodyId, BodyId), u32>,
+    /// The latest contact computed ([`World::contact`]): a collision's
+    /// point and its bounce response ask for the same one.
+    last_contact: ContactMemo,
+}
+
+/// The key of a [`ContactMemo`]: the two bodies, their frames
+/// ([`Frame::uid`], never reused: a motion change is a new frame) and the
+/// instant.
+type ContactKey = (BodyId, BodyId, u64, u64, Rational);
+
+/// The latest [`World::contact`] and what it was asked for (a clone starts
+/// empty).
+#[derive(Debug, Default)]
+struct ContactMemo(std::sync::Mutex<Option<(ContactKey, Option<ContactGeometry>)>>);
+
+impl Clone for ContactMemo {
+    fn clone(&self) -> ContactMemo {
+        ContactMemo::default()
+    }
 }
 
 /// A collision found by a structure: bodies `a` and `b` touch at `time`.
@@ -387,6 +407,7 @@ impl World {
             seq,
             bounce_instant: None,
             bounce_rounds: BTreeMap::new(),
+            last_contact: ContactMemo::default(),
         };
         if let Some((a, b)) = world.first_overlap_at_zero() {
             return Err(ScenarioError::Overlap {
@@ -778,6 +799,23 @@ impl World {
     }
 
     fn contact(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
+        let key = (a, b, self.body(a).frame.uid(), self.body(b).frame.uid());
+        let mut memo = self
+            .last_contact
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(((ka, kb, ua, ub, kt), c)) = memo.as_ref() {
+            if (*ka, *kb, *ua, *ub) == key && kt == t {
+                return c.clone();
+            }
+        }
+        let c = self.contact_fresh(a, b, t);
+        *memo = Some(((key.0, key.1, key.2, key.3, t.clone()), c.clone()));
+        c
+    }
+
+    fn contact_fresh(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
         let (ba, bb) = (self.body(a), self.body(b));
         // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A)
         let d = ba.traj.position_at(t).sub(&bb.traj.position_at(t));
