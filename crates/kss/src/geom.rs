@@ -485,13 +485,8 @@ mod tests {
     /// called apart, at scales from 1e-300 to 1e300.
     #[test]
     fn mid_rad_points_holding_one_point_are_never_apart() {
-        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = crate::rng::Rng::new(7);
+        let mut next = || rng.range_f64(-0.5, 0.5);
         for scale in [1e-300, 1e-9, 1.0, 1e9, 1e300] {
             for _ in 0..2000 {
                 // one point P, two midpoints near it, radii that reach it

@@ -146,8 +146,47 @@ pub struct Approx {
     pub memo: EnclosureMemo,
 }
 
-/// The number of entries of a [`LinkMemo`] per direction, a power of two.
-const LINKS: usize = 256;
+/// The slot of a direct-mapped table of `len` entries (a power of two)
+/// for the hash of `h` (a multiplicative hash: its top bits).
+fn slot(h: u64, len: usize) -> usize {
+    (h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - len.trailing_zeros())) as usize
+}
+
+/// The direct-mapped table of a view's cache whose entries are small
+/// values: each entry holds its own key, so a slot that another key took
+/// only misses. A clone starts empty.
+pub struct Cells<T: Copy> {
+    cells: Box<[std::cell::Cell<T>]>,
+    empty: T,
+}
+
+impl<T: Copy> Cells<T> {
+    /// `len` (a power of two) entries, each `empty`.
+    fn new(len: usize, empty: T) -> Cells<T> {
+        Cells {
+            cells: (0..len).map(|_| std::cell::Cell::new(empty)).collect(),
+            empty,
+        }
+    }
+
+    /// The entry for hash `h`.
+    #[inline]
+    fn at(&self, h: u64) -> &std::cell::Cell<T> {
+        &self.cells[slot(h, self.cells.len())]
+    }
+}
+
+impl<T: Copy> Clone for Cells<T> {
+    fn clone(&self) -> Cells<T> {
+        Cells::new(self.cells.len(), self.empty)
+    }
+}
+
+impl<T: Copy> std::fmt::Debug for Cells<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Cells({} entries)", self.cells.len())
+    }
+}
 
 /// One entry of a [`LinkMemo`]: the exposed set's version, the body and id
 /// (`body << 32 | id`), and the neighbour.
@@ -157,36 +196,19 @@ type LinkEntry = (u64, u64, u32);
 /// [`Approx::next_visible`]), direct-mapped, for each direction: an entry
 /// holds the body, the id and the exposed set's version, and answers for
 /// that set only ([`Exposed::version`] is never reused, so a pop or a
-/// merge leaves every entry of the body unused). One per [`Shapes`]; a
-/// clone starts empty.
+/// merge leaves every entry of the body unused). One per [`Shapes`].
+#[derive(Clone, Debug)]
 pub struct LinkMemo {
-    prev: Box<[std::cell::Cell<LinkEntry>]>,
-    next: Box<[std::cell::Cell<LinkEntry>]>,
+    prev: Cells<LinkEntry>,
+    next: Cells<LinkEntry>,
 }
 
 impl Default for LinkMemo {
     fn default() -> LinkMemo {
-        let empty = || {
-            (0..LINKS)
-                .map(|_| std::cell::Cell::new((0, 0, 0)))
-                .collect()
-        };
         LinkMemo {
-            prev: empty(),
-            next: empty(),
+            prev: Cells::new(256, (0, 0, 0)),
+            next: Cells::new(256, (0, 0, 0)),
         }
-    }
-}
-
-impl Clone for LinkMemo {
-    fn clone(&self) -> LinkMemo {
-        LinkMemo::default()
-    }
-}
-
-impl std::fmt::Debug for LinkMemo {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "LinkMemo({LINKS} entries per direction)")
     }
 }
 
@@ -195,15 +217,14 @@ impl LinkMemo {
     /// `cells`, or computed by `walk` and kept.
     #[inline]
     fn answer(
-        cells: &[std::cell::Cell<LinkEntry>],
+        cells: &Cells<LinkEntry>,
         (b, ap): (BodyId, &Approx),
         k: usize,
         walk: impl FnOnce(&Approx) -> usize,
     ) -> usize {
         let version = ap.exposed.version();
-        let id = (u64::from(b.0) << 32) | k as u64;
-        let h = (id ^ version.rotate_left(32)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        let cell = &cells[(h >> (64 - LINKS.trailing_zeros())) as usize];
+        let id = Att::vertex(b, k as u32).word();
+        let cell = cells.at(id ^ version.rotate_left(32));
         let (v, key, n) = cell.get();
         if v == version && key == id {
             debug_assert_eq!(
@@ -271,7 +292,7 @@ impl FacesCache {
         let h = key
             .iter()
             .fold(0u64, |h, &w| (h ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-        (h >> (64 - FACES.trailing_zeros())) as usize
+        slot(h, FACES)
     }
 
     /// The answer kept for `key` at instant `t`, if any.
@@ -301,37 +322,19 @@ pub struct Shapes {
     pub links: LinkMemo,
 }
 
-/// The number of entries of a [`MidCache`], a power of two.
-const MIDS: usize = 256;
-
 /// One entry of a [`MidCache`]: the key `[body << 32 | id, frame uid,
 /// exposed version (0: the real polygon), t.lo bits, t.hi bits]` and the
 /// midpoint–radius form of the point's position at a time in `t`.
 type MidEntry = ([u64; 5], Option<MidRad>);
 
 /// The point cache of [`Geo::mid_rad`], direct-mapped (one per
-/// [`Shapes`]; a clone starts empty).
-pub struct MidCache(Box<[std::cell::Cell<MidEntry>]>);
+/// [`Shapes`]).
+#[derive(Clone, Debug)]
+pub struct MidCache(Cells<MidEntry>);
 
 impl Default for MidCache {
     fn default() -> MidCache {
-        MidCache(
-            (0..MIDS)
-                .map(|_| std::cell::Cell::new(([0; 5], None)))
-                .collect(),
-        )
-    }
-}
-
-impl Clone for MidCache {
-    fn clone(&self) -> MidCache {
-        MidCache::default()
-    }
-}
-
-impl std::fmt::Debug for MidCache {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "MidCache({} entries)", self.0.len())
+        MidCache(Cells::new(256, ([0; 5], None)))
     }
 }
 
@@ -722,14 +725,14 @@ impl<'a> Geo<'a> {
         let Obj::Body(b) = a.obj else {
             return None;
         };
-        let version = self.shapes.approx(b).map_or(0, |ap| ap.exposed.version());
-        let id = (u64::from(b.0) << 32) | u64::from(a.v);
-        let uid = self.world.body(b).frame.uid();
+        let [version, uid] = self.view_words(b);
+        let id = a.word();
         let key = [id, uid, version, t.lo.to_bits(), t.hi.to_bits()];
-        let h = (id ^ uid.rotate_left(20) ^ version.rotate_left(40))
-            .wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        let slot = (h >> (64 - MIDS.trailing_zeros())) as usize;
-        let cell = &self.shapes.mids.0[slot];
+        let cell = self
+            .shapes
+            .mids
+            .0
+            .at(id ^ uid.rotate_left(20) ^ version.rotate_left(40));
         let (k, m) = cell.get();
         if k == key {
             debug_assert_eq!(

@@ -421,11 +421,7 @@ impl Kss {
         (t, side): (&Time, Side),
     ) -> super::geo::FacesKey {
         let c = &self.corrs[k.0 as usize];
-        let obj = |o: Obj| match o {
-            Obj::Body(b) => u64::from(b.0),
-            Obj::Omega => u64::MAX,
-        };
-        let word = |a: Att| (obj(a.obj) << 32) | u64::from(a.v);
+        let obj = |o: Obj| Att { obj: o, v: 0 }.word();
         let view = |o: Obj| match o {
             Obj::Body(b) => world.view_words(b),
             Obj::Omega => [0, 0],
@@ -439,10 +435,10 @@ impl Kss {
             obj(c.b),
             (u64::from(c.len_a) << 32) | u64::from(c.len_b),
             mid.map_or(u64::MAX, |(i, j)| (u64::from(i) << 32) | u64::from(j)),
-            word(a_s),
-            word(b_s),
-            word(a_t),
-            word(b_t),
+            a_s.word(),
+            b_s.word(),
+            a_t.word(),
+            b_t.word(),
             u64::from(side == Side::After),
             tiv.lo.to_bits(),
             tiv.hi.to_bits(),

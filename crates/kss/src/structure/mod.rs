@@ -65,15 +65,21 @@ pub struct Att {
 /// event): the body index (`u32::MAX` for `ω`) and the vertex id.
 impl std::hash::Hash for Att {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        let obj = match self.obj {
-            Obj::Body(b) => b.0,
-            Obj::Omega => u32::MAX,
-        };
-        state.write_u64((u64::from(obj) << 32) | u64::from(self.v));
+        state.write_u64(self.word());
     }
 }
 
 impl Att {
+    /// The point as one word: the body index (`u32::MAX` for `ω`) above
+    /// the vertex id; two points are equal exactly when their words are.
+    pub fn word(self) -> u64 {
+        let obj = match self.obj {
+            Obj::Body(b) => b.0,
+            Obj::Omega => u32::MAX,
+        };
+        (u64::from(obj) << 32) | u64::from(self.v)
+    }
+
     /// The point at infinity.
     pub const OMEGA: Att = Att {
         obj: Obj::Omega,
