@@ -14,7 +14,7 @@
 //! other, or three meet at a point; a pop next to a corridor whose chain
 //! wraps the whole popped polygon, after local removals (the quick bench's
 //! grazing-p50); a polygon resting on another where the structure must be
-//! built afresh and the reference stands in; a pop that must not put a
+//! built afresh (from the infinitesimally shrunk copy); a pop that must not put a
 //! partition triangle's side across a polygon; a middle bridge along flush
 //! edges of both its bodies, which would hide a contact on that line; a
 //! corridor that another corridor's operation decomposes by the motions
@@ -25,7 +25,10 @@
 //! by two polygons whose corridor is degenerate at the same instant or past
 //! a boundary bridge that the region's polygons cross, a repair after the
 //! collision response, an instant whose hull is convex just after the
-//! contact); local operations that cycle at one instant.
+//! contact); local operations that cycle at one instant; coordinates,
+//! sizes and velocities across the whole range of doubles (near 1e308,
+//! subnormal, 1e-300 beside 1e300, a 1e-18 triangle among unit ones,
+//! scales 2^±1000 in one scene: the `extreme_*` files).
 //! Each must give byte-identical output with `brute`, `plain --audit` and
 //! `hierarchical --audit`.
 

@@ -477,6 +477,106 @@ pub fn orient_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
     }
 }
 
+impl MidRad {
+    /// The order of the x coordinates of any two points within the radii
+    /// of `self` and `other`, if the midpoints decide it (the margin of
+    /// [`MidRad::apart`]).
+    #[inline]
+    pub fn cmp_x(self, other: MidRad) -> Option<std::cmp::Ordering> {
+        decided_order(self.x - other.x, self.r + other.r)
+    }
+
+    /// As [`MidRad::cmp_x`], for the y coordinates.
+    #[inline]
+    pub fn cmp_y(self, other: MidRad) -> Option<std::cmp::Ordering> {
+        decided_order(self.y - other.y, self.r + other.r)
+    }
+}
+
+fn decided_order(diff: f64, radii: f64) -> Option<std::cmp::Ordering> {
+    let reach = radii * (1.0 + 8.0 * f64::EPSILON) + f64::MIN_POSITIVE;
+    if !(diff.is_finite() && reach.is_finite()) || diff.abs() <= reach {
+        return None;
+    }
+    Some(if diff > 0.0 {
+        std::cmp::Ordering::Greater
+    } else {
+        std::cmp::Ordering::Less
+    })
+}
+
+/// A value within `e` of the computed `v` (a running error bound: every
+/// operation adds the propagated errors of its operands and `ε·|v|` for
+/// its own rounding).
+#[derive(Clone, Copy)]
+struct Bounded {
+    v: f64,
+    e: f64,
+}
+
+impl Bounded {
+    fn diff(a: f64, b: f64, radii: f64) -> Bounded {
+        let v = a - b;
+        Bounded {
+            v,
+            e: radii + EPS * v.abs(),
+        }
+    }
+    fn mul(self, o: Bounded) -> Bounded {
+        let v = self.v * o.v;
+        Bounded {
+            v,
+            e: self.v.abs() * o.e + self.e * o.v.abs() + self.e * o.e + EPS * v.abs(),
+        }
+    }
+    fn add(self, o: Bounded) -> Bounded {
+        let v = self.v + o.v;
+        Bounded {
+            v,
+            e: self.e + o.e + EPS * v.abs(),
+        }
+    }
+    fn sub(self, o: Bounded) -> Bounded {
+        let v = self.v - o.v;
+        Bounded {
+            v,
+            e: self.e + o.e + EPS * v.abs(),
+        }
+    }
+}
+
+/// The sign of the in-circle determinant of `(a, b, c, d)` (positive when
+/// `d` is inside the circle through the counter-clockwise `a, b, c`) for
+/// any four points within the radii, if the f64 evaluation with its
+/// running error bound decides it and it is not zero. The bound is taken
+/// with a factor `1 + 64ε` (the rounding of the bound's own computation,
+/// a few dozen operations deep) and [`TINY`] for underflow.
+pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<Sign> {
+    let rel = |p: MidRad| {
+        let x = Bounded::diff(p.x, d.x, p.r + d.r);
+        let y = Bounded::diff(p.y, d.y, p.r + d.r);
+        (x, y, x.mul(x).add(y.mul(y)))
+    };
+    let (ax, ay, al) = rel(a);
+    let (bx, by, bl) = rel(b);
+    let (cx, cy, cl) = rel(c);
+    let det = al
+        .mul(bx.mul(cy).sub(by.mul(cx)))
+        .add(bl.mul(cx.mul(ay).sub(cy.mul(ax))))
+        .add(cl.mul(ax.mul(by).sub(ay.mul(bx))));
+    let bound = det.e * (1.0 + 64.0 * EPS) + TINY;
+    if !(bound.is_finite() && det.v.is_finite()) {
+        return None;
+    }
+    if det.v > bound {
+        Some(Sign::Positive)
+    } else if det.v < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -127,6 +127,7 @@
 #![warn(missing_docs)]
 
 pub mod brute;
+pub mod cdt;
 mod engine;
 pub mod gen;
 pub mod geom;

@@ -1,31 +1,36 @@
-//! Construction of the structure at one instant from a constrained
-//! triangulation of the free space (spade), checked with exact predicates.
+//! Construction of the structure at one instant from an exact constrained
+//! triangulation of the free space ([`crate::cdt`]).
 //!
-//! spade triangulates the vertices rounded to doubles; every triangle we keep
-//! is then re-checked exactly (positive orientation with the exact
-//! coordinates). If rounding made the triangulation invalid for the exact
-//! coordinates (vertices closer than a few units in the last place), the
-//! construction reports an error rather than building a wrong structure.
+//! The vertices are the polygons' vertices at a rational instant, compared
+//! with exact predicates (a midpoint–radius filter first): the
+//! triangulation is valid whatever the magnitudes and however close the
+//! polygons are. Where polygons touch (a vertex on another polygon's edge,
+//! two vertices at one point) the free space has no triangulation; the
+//! construction then triangulates an infinitesimally shrunk copy instead
+//! (each polygon scaled about its centroid by `1 − ε`, with `ε` symbolic),
+//! and the caller checks that candidate exactly.
 
+use std::cell::OnceCell;
+use std::cmp::Ordering;
 use std::collections::HashMap;
 
 /// A map with the fast fixed hasher (keys are indices and points).
 type FastMap<K, V> = HashMap<K, V, foldhash::fast::FixedState>;
 
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
-
 use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
-use crate::geom::{orient, Point};
+use crate::cdt::{self, CdtError};
+use crate::geom::{in_circle_mid_rad, orient, orient_mid_rad, MidRad, Point};
 use crate::num::{Rational, Sign};
 use crate::world::BodyId;
 
 /// Why the structure could not be built.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum BuildError {
-    /// The rounded triangulation is not valid for the exact coordinates.
-    #[error("the free-space triangulation is not valid with exact coordinates: {0}")]
-    Rounding(String),
+    /// The free space has no triangulation, even shrunk infinitesimally
+    /// (or its triangulation does not make a structure).
+    #[error("the free space has no valid triangulation: {0}")]
+    Degenerate(String),
 }
 
 /// The exact position of an attachment point at time `t` (`None` for `ω`).
@@ -38,27 +43,18 @@ pub fn position(world: &Geo, a: Att, t: &Rational) -> Option<Point> {
 
 /// Build the structure for the alive bodies of `world` at time `t`.
 ///
-/// The triangulation is first computed on the positions rounded to doubles.
-/// If that fails (polygons touch at `t`, as when one slides along another,
-/// or are closer than the rounding), it is retried on *shrunk* polygons:
-/// each polygon scaled about its vertex centroid by `1 − ε` in doubles, so
-/// that touching polygons are apart by about `ε` times their size. Only the
-/// combinatorics come from the shrunk copy; every triangle is then oriented
-/// with the exact coordinates, and a triangle that is flat there (between
-/// two polygons in contact) takes the shrunk copy's orientation. Such a
-/// build is only a candidate: [`Perturbed::Yes`] tells the caller to check
-/// it exactly (faces and bridges) before using it.
+/// The free space is triangulated exactly at `t`. If it has no
+/// triangulation (polygons touch at `t`, as when one slides along
+/// another), the triangulation of an infinitesimally shrunk copy is taken:
+/// each polygon scaled about its centroid by `1 − ε` for a symbolic `ε > 0`,
+/// so that touching polygons are apart. Every triangle of that copy has a
+/// positive or zero orientation at `t` (zero between two polygons in
+/// contact). Such a build is only a candidate: [`Perturbed::Yes`] tells the
+/// caller to check it exactly (faces and bridges) before using it.
 pub fn build(world: &Geo, t: &Rational) -> Result<(Kss, Perturbed), BuildError> {
-    match build_with(world, t, None) {
+    match build_with(world, t, false) {
         Ok(kss) => Ok((kss, Perturbed::No)),
-        Err(first) => {
-            for shrink in SHRINKS {
-                if let Ok(kss) = build_with(world, t, Some(shrink)) {
-                    return Ok((kss, Perturbed::Yes));
-                }
-            }
-            Err(first)
-        }
+        Err(_) => build_with(world, t, true).map(|kss| (kss, Perturbed::Yes)),
     }
 }
 
@@ -67,39 +63,133 @@ pub fn build(world: &Geo, t: &Rational) -> Result<(Kss, Perturbed), BuildError> 
 pub enum Perturbed {
     /// Built from the positions themselves.
     No,
-    /// Built from shrunk polygons: a candidate to check.
+    /// Built from the infinitesimally shrunk polygons: a candidate to check.
     Yes,
 }
 
-/// The orientation a triangle of a triangulation computed on a *shrunk*
-/// copy takes: its exact orientation `exact`, or, where that is zero (a
-/// triangle flat between two polygons in contact), the shrunk copy's
-/// `shrunk` (exact on its doubles); `None` where the two disagree (the
-/// shrinking turned the triangle over: the triangulation is not valid).
-pub(super) fn shrunk_orientation(exact: Sign, shrunk: Sign) -> Option<Sign> {
-    match exact {
-        Sign::Zero => Some(shrunk),
-        s => (s == shrunk).then_some(s),
+/// The polygons' vertices at an instant, as the triangulation sees them:
+/// exact positions (computed when the filter does not decide), and with
+/// `shrink`, each moved by `ε` times its offset towards its polygon's
+/// centroid.
+pub(super) struct Vertices<'g, 'w> {
+    world: &'g Geo<'w>,
+    t: &'g Rational,
+    atts: Vec<Att>,
+    mids: Vec<Option<MidRad>>,
+    exact: Vec<OnceCell<Point>>,
+    shrink: bool,
+    /// Each body's centroid at `t` (for `shrink`).
+    centroids: Vec<OnceCell<Point>>,
+    towards: Vec<OnceCell<Point>>,
+}
+
+impl<'g, 'w> Vertices<'g, 'w> {
+    /// The vertices of `atts` (all on bodies) at `t`.
+    pub(super) fn new(world: &'g Geo<'w>, t: &'g Rational, atts: Vec<Att>, shrink: bool) -> Self {
+        let tiv = t.interval();
+        let mids = atts.iter().map(|&a| world.mid_rad(a, tiv)).collect();
+        let n = atts.len();
+        Vertices {
+            world,
+            t,
+            atts,
+            mids,
+            exact: (0..n).map(|_| OnceCell::new()).collect(),
+            shrink,
+            centroids: (0..world.bodies().len()).map(|_| OnceCell::new()).collect(),
+            towards: (0..n).map(|_| OnceCell::new()).collect(),
+        }
+    }
+
+    fn exact(&self, i: usize) -> &Point {
+        self.exact[i].get_or_init(|| {
+            self.world
+                .position(self.atts[i], self.t)
+                .expect("a vertex on a body")
+        })
+    }
+
+    /// The offset of vertex `i` towards its body's centroid.
+    fn towards(&self, i: usize) -> &Point {
+        self.towards[i].get_or_init(|| {
+            let Obj::Body(b) = self.atts[i].obj else {
+                unreachable!("the vertices are on bodies")
+            };
+            let c = self.centroids[b.0 as usize].get_or_init(|| {
+                let body = self.world.world.body(b);
+                body.traj.position_at(self.t).add(body.centroid())
+            });
+            c.sub(self.exact(i))
+        })
+    }
+
+    fn cmp_coord(&self, a: usize, b: usize, x: bool) -> Ordering {
+        let filtered = match (self.mids[a], self.mids[b]) {
+            (Some(p), Some(q)) if x => p.cmp_x(q),
+            (Some(p), Some(q)) => p.cmp_y(q),
+            _ => None,
+        };
+        let c = filtered.unwrap_or_else(|| {
+            let (p, q) = (self.exact(a), self.exact(b));
+            if x {
+                p.x.cmp(&q.x)
+            } else {
+                p.y.cmp(&q.y)
+            }
+        });
+        if c != Ordering::Equal || !self.shrink {
+            return c;
+        }
+        let (p, q) = (self.towards(a), self.towards(b));
+        if x {
+            p.x.cmp(&q.x)
+        } else {
+            p.y.cmp(&q.y)
+        }
     }
 }
 
-/// The relative shrink factors tried, in order (the local repair uses the
-/// first).
-pub(super) const SHRINKS: [f64; 3] = [
-    1.0 / (1u64 << 26) as f64,
-    1.0 / (1u64 << 18) as f64,
-    1.0 / (1u64 << 34) as f64,
-];
+impl cdt::Predicates for Vertices<'_, '_> {
+    fn cmp(&self, a: usize, b: usize) -> Ordering {
+        self.cmp_coord(a, b, true)
+            .then_with(|| self.cmp_coord(a, b, false))
+    }
 
-fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, BuildError> {
+    fn orient(&self, a: usize, b: usize, c: usize) -> Sign {
+        if let (Some(p), Some(q), Some(r)) = (self.mids[a], self.mids[b], self.mids[c]) {
+            if let Some(s) = orient_mid_rad(p, q, r) {
+                return s;
+            }
+        }
+        let (p, q, r) = (self.exact(a), self.exact(b), self.exact(c));
+        let s = orient(p, q, r);
+        if s != Sign::Zero || !self.shrink {
+            return s;
+        }
+        // the terms of ε and ε² of the shrunk copy's orientation
+        let (tp, tq, tr) = (self.towards(a), self.towards(b), self.towards(c));
+        let (dq, dr) = (tq.sub(tp), tr.sub(tp));
+        let first = q.sub(p).cross(&dr).add(&dq.cross(&r.sub(p)));
+        match first.sign() {
+            Sign::Zero => dq.cross(&dr).sign(),
+            s => s,
+        }
+    }
+
+    fn in_circle(&self, a: usize, b: usize, c: usize, d: usize) -> bool {
+        match (self.mids[a], self.mids[b], self.mids[c], self.mids[d]) {
+            (Some(p), Some(q), Some(r), Some(s)) => {
+                in_circle_mid_rad(p, q, r, s) == Some(Sign::Positive)
+            }
+            _ => false,
+        }
+    }
+}
+
+fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError> {
     // Global vertex numbering.
     let mut atts: Vec<Att> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
-    let mut pts: Vec<Point2<f64>> = Vec::new();
-    // each vertex placed once in midpoint–radius form, for the filter of
-    // the triangles' orientations
-    let tiv = t.interval();
-    let mut mids: Vec<Option<crate::geom::MidRad>> = Vec::new();
     for (i, body) in world.bodies().iter().enumerate() {
         if !body.alive {
             continue;
@@ -108,91 +198,23 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
         let ids = world.ids(BodyId(i as u32));
         let n = ids.len();
         for (x, &v) in ids.iter().enumerate() {
-            let a = Att::vertex(BodyId(i as u32), v);
-            atts.push(a);
-            mids.push(world.mid_rad(a, tiv));
-            // (the exact position is not kept: the filter decides almost
-            // every orientation, and the few it does not place their
-            // points again)
-            let f = world.position(a, t).expect("a finite point").to_f64();
-            pts.push(Point2::new(f[0], f[1]));
+            atts.push(Att::vertex(BodyId(i as u32), v));
             edges.push([base + x, base + (x + 1) % n]);
-        }
-        if let Some(eps) = shrink {
-            let body_pts = &mut pts[base..];
-            let c = body_pts
-                .iter()
-                .fold([0.0, 0.0], |c, p| [c[0] + p.x, c[1] + p.y]);
-            let c = [c[0] / n as f64, c[1] / n as f64];
-            for p in body_pts {
-                *p = Point2::new(p.x + eps * (c[0] - p.x), p.y + eps * (c[1] - p.y));
-            }
         }
     }
     let alive = world.bodies().iter().filter(|b| b.alive).count();
     if alive < 2 {
         return Ok(Kss::default());
     }
-    // the doubles triangulated, exactly (for the orientation of a triangle
-    // that is flat in exact coordinates)
-    let rounded: Vec<Point> = match shrink {
-        Some(_) => pts
-            .iter()
-            .map(|p| Point::from_f64([p.x, p.y]).expect("finite"))
-            .collect(),
-        None => Vec::new(),
-    };
-    let mut conflict = false;
-    let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(pts, edges, |_| conflict = true)
-            .map_err(|e| BuildError::Rounding(format!("{e:?}")))?;
-    if conflict || cdt.num_vertices() != atts.len() {
-        return Err(BuildError::Rounding(
-            "vertices or edges coincide after rounding to doubles".into(),
-        ));
-    }
-    // All finite triangles, oriented CCW exactly.
-    let raw: Vec<[usize; 3]> = cdt
-        .inner_faces()
-        .map(|f| f.vertices().map(|h| h.fix().index()))
-        .collect();
-    // the exact orientation at `t`, through the f64 filter (which decides
-    // a sign only where it is the exact one at every time in `t`'s
-    // enclosure)
-    let exact = |u: usize| world.position(atts[u], t).expect("a finite point");
-    let exact_sign = |[u, v, w]: [usize; 3]| {
-        let filtered = match (mids[u], mids[v], mids[w]) {
-            (Some(a), Some(b), Some(c)) => crate::geom::orient_mid_rad(a, b, c),
-            _ => None,
-        };
-        filtered.unwrap_or_else(|| orient(&exact(u), &exact(v), &exact(w)))
-    };
-    let raw = match shrink {
-        None => split_flat_triangles(raw, &exact, &exact_sign)?,
-        Some(_) => raw,
-    };
-    let mut tris: Vec<[usize; 3]> = Vec::with_capacity(raw.len());
+    let vertices = Vertices::new(world, t, atts, shrink);
+    let tris = cdt::triangulate(vertices.atts.len(), &edges, &vertices)
+        .map_err(|e: CdtError| BuildError::Degenerate(e.to_string()))?;
+    let atts = vertices.atts;
     let mut directed: FastMap<(usize, usize), ()> = FastMap::default();
-    for [u, v, w] in raw {
-        let sign = exact_sign([u, v, w]);
-        let sign = match shrink {
-            None => sign,
-            Some(_) => shrunk_orientation(sign, orient(&rounded[u], &rounded[v], &rounded[w]))
-                .ok_or_else(|| {
-                    BuildError::Rounding(
-                        "the shrunk triangulation is not valid with exact coordinates".into(),
-                    )
-                })?,
-        };
-        let tri = match sign {
-            Sign::Positive => [u, v, w],
-            Sign::Negative => [u, w, v],
-            Sign::Zero => return Err(BuildError::Rounding("a flat triangle".into())),
-        };
+    for tri in &tris {
         for i in 0..3 {
             directed.insert((tri[i], tri[(i + 1) % 3]), ());
         }
-        tris.push(tri);
     }
     // Convex hull edges (CCW): directed edges whose reverse is in no triangle.
     let mut hull: Vec<(usize, usize)> = directed
@@ -220,7 +242,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
             let (x, y) = (f[i], f[(i + 1) % 3]);
             if let (Obj::Body(b), true) = (x.obj, x.obj == y.obj) {
                 if world.ccw(x) != y && world.ccw(y) != x {
-                    return Err(BuildError::Rounding(format!(
+                    return Err(BuildError::Degenerate(format!(
                         "a triangle side cuts through body {}",
                         world.body(b).id
                     )));
@@ -263,7 +285,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
             let end = loop {
                 let &(fj, sj) = side_of
                     .get(&(y, x))
-                    .ok_or_else(|| BuildError::Rounding("a side without neighbour".into()))?;
+                    .ok_or_else(|| BuildError::Degenerate("a side without neighbour".into()))?;
                 let g = &faces[fj];
                 if is_partition(g) {
                     break (tri_id[&fj], sj as u8);
@@ -291,7 +313,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: Option<f64>) -> Result<Kss, Bui
         }
     }
     if kss.tris.iter().any(|t| t.corr.contains(&CorrId(u32::MAX))) {
-        return Err(BuildError::Rounding(
+        return Err(BuildError::Degenerate(
             "a partition-triangle side without corridor".into(),
         ));
     }
@@ -318,55 +340,6 @@ pub(super) fn cross_two_object_face(g: &[Att; 3], sj: usize, a: Obj) -> ((Att, A
         (s2, s1)
     };
     (side(exit), side(edge).0.obj == a)
-}
-
-/// Remove the triangles that are flat for the exact coordinates. Rounding to
-/// doubles can make three points of one line a thin triangle: the
-/// hierarchy's approximation vertices are rationals, and bodies with edges
-/// on a common line put several vertices on it. A flat triangle `(u, v, w)`
-/// with `v` between `u` and `w` is removed by splitting its long side at
-/// `v`: the triangle across that side, `(w, u, x)`, becomes `(u, v, x)` and
-/// `(v, w, x)`; on the hull there is no such triangle and the hull runs
-/// through `v`.
-fn split_flat_triangles(
-    mut tris: Vec<[usize; 3]>,
-    exact: &dyn Fn(usize) -> Point,
-    sign: &dyn Fn([usize; 3]) -> Sign,
-) -> Result<Vec<[usize; 3]>, BuildError> {
-    let flat = |t: &[usize; 3]| sign(*t) == Sign::Zero;
-    // `m` strictly between `a` and `b` on their line
-    let between = |a: usize, m: usize, b: usize| {
-        let pm = exact(m);
-        exact(a).sub(&pm).dot(&exact(b).sub(&pm)).sign() == Sign::Negative
-    };
-    for _ in 0..4 * tris.len() + 16 {
-        let Some(fi) = tris.iter().position(flat) else {
-            return Ok(tris);
-        };
-        let [p, q, r] = tris[fi];
-        let (u, v, w) = if between(q, p, r) {
-            (q, p, r)
-        } else if between(p, q, r) {
-            (p, q, r)
-        } else if between(p, r, q) {
-            (p, r, q)
-        } else {
-            return Err(BuildError::Rounding(
-                "a triangle with coincident corners".into(),
-            ));
-        };
-        tris.swap_remove(fi);
-        if let Some(gi) = tris.iter().position(|t| t.contains(&u) && t.contains(&w)) {
-            let g = tris.swap_remove(gi);
-            let x = *g
-                .iter()
-                .find(|&&y| y != u && y != w)
-                .expect("a triangle has three corners");
-            tris.push([u, v, x]);
-            tris.push([v, w, x]);
-        }
-    }
-    Err(BuildError::Rounding("a flat triangle".into()))
 }
 
 #[cfg(test)]
@@ -526,32 +499,5 @@ mod larger_tests {
         let world = World::new(&s, None).unwrap();
         let world = Geo::plain(&world);
         assert_eq!(build(&world, &Rational::zero()).unwrap().1, Perturbed::No);
-    }
-
-    fn pt(x: i64, y: i64) -> Point {
-        Point::from_f64([x as f64, y as f64]).expect("finite")
-    }
-
-    #[test]
-    fn a_flat_triangle_is_split_at_its_middle_point() {
-        // u, v, w on one line; x above it
-        let exact = [pt(0, 0), pt(1, 0), pt(2, 0), pt(1, 1)];
-        let sign = |t: [usize; 3]| orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]);
-        let point = |i: usize| exact[i].clone();
-        let out = split_flat_triangles(vec![[0, 1, 2], [2, 0, 3]], &point, &sign).unwrap();
-        assert_eq!(out.len(), 2);
-        for t in &out {
-            assert_ne!(orient(&exact[t[0]], &exact[t[1]], &exact[t[2]]), Sign::Zero);
-            assert!(t.contains(&1) && t.contains(&3));
-        }
-        // on the hull: dropped
-        assert!(split_flat_triangles(vec![[0, 1, 2]], &point, &sign)
-            .unwrap()
-            .is_empty());
-        // coincident corners are an error
-        let same = [pt(0, 0), pt(0, 0), pt(2, 0)];
-        let sign = |t: [usize; 3]| orient(&same[t[0]], &same[t[1]], &same[t[2]]);
-        let point = |i: usize| same[i].clone();
-        assert!(split_flat_triangles(vec![[0, 1, 2]], &point, &sign).is_err());
     }
 }

@@ -5,10 +5,10 @@
 //! one side. `R` is bounded by the chains of `P`'s neighbours that faced
 //! it (in those corridors) and by the sides of its triangles opposite
 //! `P` (bridges between two neighbours, or rays to `ω` when `P` was on the
-//! convex hull). Only `R` is triangulated again: a constrained
-//! triangulation (spade) of the vertices on its boundary, with the chain
-//! edges and the finite bridges as constraints, keeps the triangles on
-//! `R`'s side of them (every one checked positive with exact coordinates),
+//! convex hull). Only `R` is triangulated again: an exact constrained
+//! triangulation ([`crate::cdt`]) of the vertices on its boundary, with the
+//! chain edges and the finite bridges as constraints, keeps the triangles
+//! on `R`'s side of them,
 //! and the edges of the local hull that bound `R` become new hull edges
 //! (faces with `ω`). Faces on three objects are the new partition
 //! triangles; corridors are walked as in the construction, except that a
@@ -17,18 +17,16 @@
 //! outside corridors that ended at `R` are merged into the new ones.
 //!
 //! The cost is the size of `R`'s boundary (the facing chains), not the
-//! number of polygons; a removal that cannot be done this way (the local
-//! triangulation is not valid for the exact coordinates, or fewer than
-//! two bodies stay) is reported as an error and the caller rebuilds.
+//! number of polygons; a removal that cannot be done this way (the region
+//! has no triangulation even shrunk, or fewer than two bodies stay) is
+//! reported as an error and the caller rebuilds.
 
 use std::collections::{HashMap, HashSet};
 
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
-
-use super::build::{cross_two_object_face, is_partition, shrunk_orientation, SHRINKS};
+use super::build::{cross_two_object_face, is_partition, Vertices};
 use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
-use crate::geom::{orient, Point};
+use crate::cdt::{self, CdtError};
 use crate::num::{Rational, Sign, Time};
 use crate::world::BodyId;
 
@@ -212,40 +210,6 @@ impl Kss {
         out
     }
 
-    /// The doubles `approx` of the region's vertices `atts` at time `t`,
-    /// each polygon's shrunk towards a point strictly inside its real
-    /// polygon (the centroid of three of its vertices a third of the way
-    /// round from each other) by a relative `2^-26`: touching polygons come
-    /// apart by about that fraction of their size. O(1) per polygon.
-    fn shrunk_copy(
-        &self,
-        world: &Geo,
-        atts: &[Att],
-        approx: &[[f64; 2]],
-        t: &Rational,
-    ) -> Vec<[f64; 2]> {
-        let eps = SHRINKS[0];
-        let mut centre: HashMap<BodyId, [f64; 2]> = HashMap::new();
-        atts.iter()
-            .zip(approx)
-            .map(|(a, &[x, y])| {
-                let Obj::Body(b) = a.obj else {
-                    return [x, y];
-                };
-                let c = *centre.entry(b).or_insert_with(|| {
-                    let body = world.body(b);
-                    let n = body.shape.len();
-                    let pts = [0, n / 3, 2 * n / 3].map(|i| body.vertex_at(i, t).to_f64());
-                    [
-                        (pts[0][0] + pts[1][0] + pts[2][0]) / 3.0,
-                        (pts[0][1] + pts[1][1] + pts[2][1]) / 3.0,
-                    ]
-                });
-                [x + eps * (c[0] - x), y + eps * (c[1] - y)]
-            })
-            .collect()
-    }
-
     /// [`Kss::removal_plan`], [`Kss::retriangulation_plan`] or
     /// [`Kss::insertion_plan`] (by `region`) at the rational instant `t`.
     fn region_plan(
@@ -256,7 +220,6 @@ impl Kss {
         region: Region,
     ) -> Result<RemovalPlan, PlanError> {
         let keep = region != Region::Remove;
-        let ti = t.interval();
         let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
         let dead_tris: Vec<TriId> = (0..self.tris.len())
             .filter(|&i| self.tris[i].c.iter().any(|c| in_set(c.obj)))
@@ -351,21 +314,6 @@ impl Kss {
         for &a in &ends {
             add(a, &mut atts);
         }
-        // the nearest doubles for the triangulation (as the construction
-        // does: collinear inputs stay collinear when they are doubles); the
-        // exact positions are kept for the orientation tests the filter
-        // cannot decide
-        let exact: Vec<Point> = atts
-            .iter()
-            .map(|&a| world.position(a, t).ok_or("a finite point"))
-            .collect::<Result<_, _>>()?;
-        let approx: Vec<[f64; 2]> = exact.iter().map(Point::to_f64).collect();
-        let orient_exact = |u: usize, v: usize, w: usize| -> Sign {
-            match world.orient_filtered(atts[u], atts[v], atts[w], ti) {
-                Some(s) => s,
-                None => orient(&exact[u], &exact[v], &exact[w]),
-            }
-        };
         let mut constraints: HashSet<(usize, usize)> = HashSet::new();
         for &(u, v) in chains.iter().chain(&bridges) {
             if u.is_omega() || v.is_omega() {
@@ -402,47 +350,33 @@ impl Kss {
                 out.dedup();
                 out
             };
-            // (with the shrunk copy's points where that was triangulated)
-            let (faces, shrunk) = match local_cdt(&approx, &edges) {
-                Ok(faces) => (faces, None),
-                // polygons that touch at `t` (one sliding along another's
-                // edge, a vertex on an edge) put a vertex on a constraint:
-                // the combinatorics come from a copy of the region with
-                // every polygon shrunk a little towards a point inside it
-                // (as the construction does), and are checked exactly below
-                Err((reason, conflicts)) => {
-                    let shrunk = self.shrunk_copy(world, &atts, &approx, t);
-                    let faces = local_cdt(&shrunk, &edges).map_err(|_| PlanError {
-                        grow: grow(&conflicts),
-                        reason,
-                    })?;
-                    let rounded: Vec<Point> = shrunk
-                        .iter()
-                        .map(|&f| Point::from_f64(f).expect("finite"))
-                        .collect();
-                    (faces, Some(rounded))
-                }
+            // exactly at `t`; where polygons touch at `t` (one sliding
+            // along another's edge, a vertex on an edge) the region has no
+            // triangulation, and it comes from the infinitesimally shrunk
+            // copy (as the construction does), checked exactly below
+            let local = |shrink: bool| {
+                let vertices = Vertices::new(world, t, atts.clone(), shrink);
+                cdt::triangulate(atts.len(), &edges, &vertices)
             };
-            // every triangle oriented exactly; from the shrunk copy, one
-            // that is flat exactly (between two polygons in contact) takes
-            // the copy's orientation (a partition triangle that is flat does
-            // not hold just after `t` and is refused by the caller; a
-            // corridor's is checked by its decomposition), and one that the
-            // shrinking turned over makes the plan invalid
-            for [u, v, w] in faces {
-                let sign = orient_exact(u, v, w);
-                let sign = match &shrunk {
-                    None => sign,
-                    Some(r) => shrunk_orientation(sign, orient(&r[u], &r[v], &r[w]))
-                        .ok_or("the shrunk triangulation is not valid exactly")?,
-                };
-                let tri = match sign {
-                    Sign::Positive => [u, v, w],
-                    // spade's faces are counter-clockwise in doubles: the
-                    // rounded triangulation is not valid exactly
-                    Sign::Negative => return Err("a triangle inverted by rounding".into()),
-                    Sign::Zero => return Err("a flat triangle".into()),
-                };
+            let faces = match local(false) {
+                Ok(faces) => faces,
+                Err(first) => local(true).map_err(|_| {
+                    let conflicts = match &first {
+                        CdtError::Crossing(c) => c.clone(),
+                        _ => Vec::new(),
+                    };
+                    PlanError {
+                        grow: grow(&conflicts),
+                        reason: first.to_string(),
+                    }
+                })?,
+            };
+            // every triangle is counter-clockwise exactly, or flat between
+            // two polygons in contact (from the shrunk copy: a partition
+            // triangle that is flat does not hold just after `t` and is
+            // refused by the caller; a corridor's is checked by its
+            // decomposition)
+            for tri in faces {
                 for i in 0..3 {
                     directed.insert((tri[i], tri[(i + 1) % 3]), tris.len());
                 }
@@ -878,44 +812,4 @@ impl Kss {
         self.corrs.truncate(len as usize);
         out
     }
-}
-
-/// Why [`local_cdt`] failed, and the constraints reported crossing others.
-type CdtError = (String, Vec<[usize; 2]>);
-
-/// The triangles (vertex triples, counter-clockwise in doubles) of the
-/// constrained Delaunay triangulation of `pts` with the constraint `edges`;
-/// an error when the doubles make it differ from the constraints (two of
-/// them cross, two vertices coincide, or a constraint passes through a
-/// vertex).
-fn local_cdt(pts: &[[f64; 2]], edges: &[[usize; 2]]) -> Result<Vec<[usize; 3]>, CdtError> {
-    let points: Vec<Point2<f64>> = pts.iter().map(|f| Point2::new(f[0], f[1])).collect();
-    let mut conflicts: Vec<[usize; 2]> = Vec::new();
-    let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, edges.to_vec(), |e| {
-            conflicts.push(e)
-        })
-        .map_err(|e| (format!("{e:?}"), Vec::new()))?;
-    if !conflicts.is_empty() {
-        return Err(("constraints cross after rounding".into(), conflicts));
-    }
-    if cdt.num_vertices() != pts.len() {
-        return Err(("vertices coincide after rounding".into(), Vec::new()));
-    }
-    // a constraint through a vertex is split by spade without a conflict:
-    // the flood fill would cross it
-    let fix = spade::handles::FixedVertexHandle::from_index;
-    if edges
-        .iter()
-        .any(|&[x, y]| !cdt.exists_constraint(fix(x), fix(y)))
-    {
-        return Err((
-            "a constraint passes through a vertex after rounding".into(),
-            Vec::new(),
-        ));
-    }
-    Ok(cdt
-        .inner_faces()
-        .map(|f| f.vertices().map(|h| h.fix().index()))
-        .collect())
 }
