@@ -736,15 +736,9 @@ impl World {
                 1.0 + 2f64.powi((round as i32).min(60) - 30)
             };
             let (ba, bb) = (self.body(a), self.body(b));
-            let inv_a = if ba.fixed { 0.0 } else { 1.0 / ba.area };
-            let inv_b = if bb.fixed { 0.0 } else { 1.0 / bb.area };
-            let nf = n.to_f64();
-            let len = nf[0].hypot(nf[1]);
-            let nh = [nf[0] / len, nf[1] / len];
             let vaf = va.to_f64();
             let vbf = vb.to_f64();
-            let u = (vbf[0] - vaf[0]) * nh[0] + (vbf[1] - vaf[1]) * nh[1];
-            let j = -(1.0 + restitution) * u / (inv_a + inv_b);
+            let (new_a, new_b) = impulse(ba, bb, &n, vaf, vbf, restitution);
             let mut push = |id: BodyId, v: [f64; 2], sign: f64| {
                 new_v.insert(id, v);
                 let e = away
@@ -759,18 +753,10 @@ impl World {
                 }
             };
             if !ba.fixed {
-                push(
-                    a,
-                    [vaf[0] - j * inv_a * nh[0], vaf[1] - j * inv_a * nh[1]],
-                    -1.0,
-                );
+                push(a, new_a, -1.0);
             }
             if !bb.fixed {
-                push(
-                    b,
-                    [vbf[0] + j * inv_b * nh[0], vbf[1] + j * inv_b * nh[1]],
-                    1.0,
-                );
+                push(b, new_b, 1.0);
             }
         }
         let mut changed = Vec::new();
@@ -784,6 +770,7 @@ impl World {
     }
 
     fn current_velocity(&self, id: BodyId, new_v: &BTreeMap<BodyId, [f64; 2]>) -> Point {
+        // (every velocity in `new_v` is finite: [`impulse`] saturates)
         match new_v.get(&id) {
             Some(v) => Point::from_f64(*v).expect("finite"),
             None => self.body(id).traj.velocity().clone(),
@@ -947,6 +934,111 @@ impl World {
     }
 }
 
+/// The velocities of `a` and `b` after the elastic impulse along the
+/// contact normal `n` (from `a` to `b`), in doubles, from their velocities
+/// `va`, `vb` before (the pair approaches along `n`).
+///
+/// The masses are the areas. Where the areas, the normal and the
+/// velocities are ordinary doubles this is the textbook formula. Where one
+/// of them is not (an area beyond the doubles' range or below their
+/// smallest normal value, a normal whose length overflows, velocities near
+/// `f64::MAX`), the same impulse is computed from the exact ratio of the
+/// areas, the normal's direction from the exact ratio of its coordinates,
+/// and the velocities scaled by a power of two; a result beyond the
+/// doubles' range saturates at `±f64::MAX`.
+fn impulse(
+    ba: &Body,
+    bb: &Body,
+    n: &Point,
+    va: [f64; 2],
+    vb: [f64; 2],
+    restitution: f64,
+) -> ([f64; 2], [f64; 2]) {
+    let inv_a = if ba.fixed { 0.0 } else { 1.0 / ba.area };
+    let inv_b = if bb.fixed { 0.0 } else { 1.0 / bb.area };
+    let nf = n.to_f64();
+    let len = nf[0].hypot(nf[1]);
+    let nh = [nf[0] / len, nf[1] / len];
+    let u = (vb[0] - va[0]) * nh[0] + (vb[1] - va[1]) * nh[1];
+    let j = -(1.0 + restitution) * u / (inv_a + inv_b);
+    let new_a = [va[0] - j * inv_a * nh[0], va[1] - j * inv_a * nh[1]];
+    let new_b = [vb[0] + j * inv_b * nh[0], vb[1] + j * inv_b * nh[1]];
+    let normal = |x: f64| x.is_finite() && (x == 0.0 || x.abs() >= f64::MIN_POSITIVE);
+    let ordinary = [ba.area, bb.area].iter().all(|&m| normal(m) && m > 0.0)
+        && normal(len)
+        && len > 0.0
+        && normal(u)
+        && [new_a, new_b].iter().flatten().all(|&x| normal(x));
+    if ordinary {
+        return (new_a, new_b);
+    }
+    // each body's share of the exchange: m_b / (m_a + m_b) for a
+    let (share_a, share_b) = match (ba.fixed, bb.fixed) {
+        (true, _) => (0.0, 1.0),
+        (_, true) => (1.0, 0.0),
+        _ => {
+            let (ma, mb) = (ba.shape.twice_area(), bb.shape.twice_area());
+            let sum = ma.add(&mb);
+            (mb.div(&sum).to_f64(), ma.div(&sum).to_f64())
+        }
+    };
+    let nh = unit_direction(n);
+    // velocities scaled by a power of two so that the largest is near 1
+    let big = va.iter().chain(&vb).fold(0.0f64, |m, x| m.max(x.abs()));
+    let e = if big > 0.0 {
+        big.log2().floor() as i32
+    } else {
+        0
+    };
+    let (down, up) = (
+        2f64.powi(-e.clamp(-1000, 1000)),
+        2f64.powi(e.clamp(-1000, 1000)),
+    );
+    let (sa, sb) = (va.map(|x| x * down), vb.map(|x| x * down));
+    let u = (sb[0] - sa[0]) * nh[0] + (sb[1] - sa[1]) * nh[1];
+    let k = (1.0 + restitution) * u;
+    let back = |x: f64| (x * up).clamp(-f64::MAX, f64::MAX);
+    (
+        [0, 1].map(|i| back(sa[i] + k * share_a * nh[i])),
+        [0, 1].map(|i| back(sb[i] - k * share_b * nh[i])),
+    )
+}
+
+/// The unit vector of the exact nonzero direction `n`, in doubles, from
+/// the ratio of its coordinates (no overflow or underflow of its length).
+fn unit_direction(n: &Point) -> [f64; 2] {
+    let sx = if n.x.sign() == Sign::Negative {
+        -1.0
+    } else {
+        1.0
+    };
+    let sy = if n.y.sign() == Sign::Negative {
+        -1.0
+    } else {
+        1.0
+    };
+    let abs = |x: &Rational| match x.sign() {
+        Sign::Negative => x.neg(),
+        _ => x.clone(),
+    };
+    let (ax, ay) = (abs(&n.x), abs(&n.y));
+    if ay.is_zero() {
+        return [sx, 0.0];
+    }
+    if ax.is_zero() {
+        return [0.0, sy];
+    }
+    if ax >= ay {
+        let r = ay.div(&ax).to_f64();
+        let l = 1.0f64.hypot(r);
+        [sx / l, sy * r / l]
+    } else {
+        let r = ax.div(&ay).to_f64();
+        let l = 1.0f64.hypot(r);
+        [sx * r / l, sy / l]
+    }
+}
+
 fn centroid_f64(ps: &[[f64; 2]]) -> [f64; 2] {
     let n = ps.len() as f64;
     let s = ps
@@ -1033,4 +1125,89 @@ fn bridge_anchor(
         y: round(&target.y, dir(1)),
     };
     (tau, q)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::{CollisionMode, PolygonSpec, Scenario};
+
+    fn square(id: &str, side: f64, x: f64, vx: f64) -> PolygonSpec {
+        PolygonSpec {
+            id: id.into(),
+            vertices: vec![[0.0, 0.0], [side, 0.0], [side, side], [0.0, side]],
+            position: [x, 0.0],
+            velocity: [vx, 0.0],
+            fixed: false,
+        }
+    }
+
+    fn bodies(s: &Scenario) -> World {
+        World::new(s, None).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// Two equal squares head-on swap their velocities, at the unit scale
+    /// and where the areas, the normal's length and the relative velocity
+    /// are beyond the doubles' range (2^600-sided squares at ±1.5·2^1023).
+    #[test]
+    fn equal_masses_swap_velocities_at_every_scale() {
+        let n = Point::from_f64([1.0, 0.0]).expect("finite");
+        for (side, v) in [(1.0, 1.0), (2f64.powi(600), 1.5 * 2f64.powi(1023))] {
+            let s = Scenario {
+                until: 1.0,
+                on_collision: CollisionMode::Bounce,
+                polygons: vec![
+                    square("a", side, -2.0 * side, v),
+                    square("b", side, side, -v),
+                ],
+                ..Default::default()
+            };
+            let w = bodies(&s);
+            let (ba, bb) = (w.body(BodyId(0)), w.body(BodyId(1)));
+            let r = Rational::from_f64(side).expect("finite");
+            let big = n.scale(&r.mul(&r)); // beyond the doubles at 2^600
+            for normal in [&n, &big] {
+                let (a, b) = impulse(ba, bb, normal, [v, 0.0], [-v, 0.0], 1.0);
+                assert_eq!((a, b), ([-v, 0.0], [v, 0.0]), "side {side}");
+            }
+        }
+    }
+
+    /// A subnormal-sized polygon (zero area in doubles) against a unit
+    /// one: the light one takes (almost) the whole exchange, the heavy one
+    /// keeps its velocity.
+    #[test]
+    fn a_polygon_with_an_area_below_the_doubles_bounces_off_a_unit_one() {
+        let tiny = 2f64.powi(-1070);
+        let s = Scenario {
+            until: 1.0,
+            on_collision: CollisionMode::Bounce,
+            polygons: vec![square("a", tiny, -2.0, 1.0), square("b", 1.0, 1.0, 0.0)],
+            ..Default::default()
+        };
+        let w = bodies(&s);
+        let n = Point::from_f64([1.0, 0.0]).expect("finite");
+        let (a, b) = impulse(
+            w.body(BodyId(0)),
+            w.body(BodyId(1)),
+            &n,
+            [1.0, 0.0],
+            [0.0, 0.0],
+            1.0,
+        );
+        assert_eq!(a, [-1.0, 0.0]);
+        assert_eq!(b, [0.0, 0.0]);
+        // an exact direction whose coordinates overflow as doubles
+        let huge = Point {
+            x: Rational::from_f64(f64::MAX)
+                .expect("finite")
+                .mul(&Rational::from_f64(4.0).expect("finite")),
+            y: Rational::from_f64(f64::MAX)
+                .expect("finite")
+                .mul(&Rational::from_f64(-4.0).expect("finite")),
+        };
+        let d = unit_direction(&huge);
+        assert_eq!(d[0], -d[1]);
+        assert!((d[0] - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-15);
+    }
 }
