@@ -5,9 +5,9 @@
 //!
 //! For every text: parsing never panics; on a parsed scenario, `brute`,
 //! `plain` and `hierarchical` (with the audit after every event on scenes
-//! of up to 24 vertices) never panic and never report an internal
-//! error; they accept or refuse the scenario alike; and where they run, the structures report brute's collisions exactly (times,
-//! pairs, repeats).
+//! of up to 24 vertices) never panic and never report an internal error;
+//! they accept or refuse the scenario alike; and where they run, the
+//! structures report brute's collisions exactly (times, pairs, repeats).
 //!
 //! The default is a short run (`KSS_FUZZ_CASES`, 150 cases). For a long
 //! one set `KSS_FUZZ_CASES` high and `KSS_FUZZ_SECONDS` to a time budget;
