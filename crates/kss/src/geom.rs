@@ -581,6 +581,61 @@ pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<S
 mod tests {
     use super::*;
 
+    /// The in-circle filter never decides a sign other than the exact one
+    /// for points within its radii, at scales from 1e-300 to 1e300, and
+    /// decides most of them.
+    #[test]
+    fn in_circle_filter_agrees_with_the_exact_sign() {
+        let mut rng = crate::rng::Rng::new(17);
+        let exact_in_circle = |p: [[f64; 2]; 4]| {
+            let q = p.map(|c| Point::from_f64(c).expect("finite"));
+            let r = [0, 1, 2].map(|i| {
+                let d = q[i].sub(&q[3]);
+                let l = d.dot(&d);
+                (d, l)
+            });
+            let cross = |a: &Point, b: &Point| a.cross(b);
+            r[0].1
+                .mul(&cross(&r[1].0, &r[2].0))
+                .add(&r[1].1.mul(&cross(&r[2].0, &r[0].0)))
+                .add(&r[2].1.mul(&cross(&r[0].0, &r[1].0)))
+                .sign()
+        };
+        let mut decided = 0;
+        for scale in [1e-300, 1e-9, 1.0, 1e9, 1e150] {
+            for _ in 0..3000 {
+                let mut pt = || {
+                    let x = rng.range_f64(-1.0, 1.0) * scale;
+                    let y = rng.range_f64(-1.0, 1.0) * scale;
+                    let r = [0.0, scale * 1e-12, scale * 1e-3][rng.below(3) as usize];
+                    let (tx, ty) = (
+                        x + r * rng.range_f64(-1.0, 1.0),
+                        y + r * rng.range_f64(-1.0, 1.0),
+                    );
+                    (MidRad { x, y, r }, [tx, ty])
+                };
+                let (mut a, mut b, mut c, mut d) = (pt(), pt(), pt(), pt());
+                if rng.chance(0.3) {
+                    // four points on one circle, up to their rounding
+                    let on = |p: &mut (MidRad, [f64; 2]), k: f64| {
+                        let (x, y) = (k.cos() * scale, k.sin() * scale);
+                        *p = (MidRad { x, y, r: 0.0 }, [x, y]);
+                    };
+                    on(&mut a, 0.3);
+                    on(&mut b, 1.9);
+                    on(&mut c, 4.0);
+                    on(&mut d, rng.range_f64(0.0, std::f64::consts::TAU));
+                }
+                let want = exact_in_circle([a.1, b.1, c.1, d.1]);
+                if let Some(s) = in_circle_mid_rad(a.0, b.0, c.0, d.0) {
+                    decided += 1;
+                    assert_eq!(s, want, "{a:?} {b:?} {c:?} {d:?}");
+                }
+            }
+        }
+        assert!(decided > 5000, "decided {decided}");
+    }
+
     /// Two midpoint–radius forms that both hold one point are never
     /// called apart, at scales from 1e-300 to 1e300.
     #[test]

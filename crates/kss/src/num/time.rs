@@ -357,8 +357,7 @@ impl Time {
         assert!(self < later, "rational_between needs self < later");
         // Try a short double between the enclosures first.
         if self.iv.hi < later.iv.lo {
-            if let Some(m) = simple_between(self.iv.hi, later.iv.lo) {
-                let r = Rational::from_f64(m).expect("finite");
+            if let Some(r) = simple_between(self.iv.hi, later.iv.lo).and_then(Rational::from_f64) {
                 let t = Time::from_rational(r.clone());
                 if *self < t && t < *later {
                     return r;

@@ -141,7 +141,10 @@ impl Kss {
                     let pts: Vec<Point> = world
                         .ids(id)
                         .into_iter()
-                        .map(|v| position(world, super::Att::vertex(id, v), t).expect("finite"))
+                        .map(|v| {
+                            position(world, super::Att::vertex(id, v), t)
+                                .expect("a vertex, not ω, has a position")
+                        })
                         .collect();
                     let mut bx = [
                         f64::INFINITY,
@@ -180,8 +183,8 @@ impl Kss {
         // two triangles: checking a segment twice is harmless
         for (x, y) in bridges {
             let (p, q) = (
-                position(world, x, t).expect("finite"),
-                position(world, y, t).expect("finite"),
+                position(world, x, t).expect("a vertex, not ω, has a position"),
+                position(world, y, t).expect("a vertex, not ω, has a position"),
             );
             let (pf, qf) = (p.to_f64(), q.to_f64());
             // a little slack: the box filter must never skip a real hit

@@ -76,7 +76,10 @@ pub fn classify(world: &Geo, c: &Cert, t: &Time) -> Failure {
             let coincide = |i: usize, j: usize| {
                 c.p[i].obj != c.p[j].obj
                     && t.as_rational().is_none_or(|r| {
-                        let pos = |a: Att| super::build::position(world, a, r).expect("finite");
+                        let pos = |a: Att| {
+                            super::build::position(world, a, r)
+                                .expect("a vertex, not ω, has a position")
+                        };
                         pos(c.p[i]) == pos(c.p[j])
                     })
             };
@@ -122,7 +125,8 @@ pub fn classify(world: &Geo, c: &Cert, t: &Time) -> Failure {
 /// touch is inside an edge).
 pub fn settled_between(world: &Geo, c: &Cert, t: &Time) -> Option<Failure> {
     let r = t.as_rational()?;
-    let pos = |a: Att| super::build::position(world, a, r).expect("finite");
+    let pos =
+        |a: Att| super::build::position(world, a, r).expect("a vertex, not ω, has a position");
     for (i, j, k) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
         let (p, q, z) = (c.p[i], c.p[j], c.p[k]);
         if p.obj == q.obj || pos(p) != pos(q) {

@@ -114,7 +114,8 @@ pub fn straight_forever(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
     let Some(t) = t.as_rational() else {
         return false;
     };
-    let pos = |a: Att| super::build::position(world, a, t).expect("finite");
+    let pos =
+        |a: Att| super::build::position(world, a, t).expect("a vertex, not ω, has a position");
     let (pu, pv, pw) = (pos(u), pos(v), pos(w));
     pu.sub(&pv).dot(&pw.sub(&pv)).sign() == Sign::Negative
 }

@@ -272,7 +272,7 @@ pub fn separate_after(
 /// pairs to test.
 pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Result<u64, String> {
     separate_all(world, shapes, t, &|geo, u, v, w| {
-        let p = |x: Att| geo.position(x, t).expect("a finite point");
+        let p = |x: Att| geo.position(x, t).expect("a vertex, not ω, has a position");
         orient(&p(u), &p(v), &p(w))
     })
 }
@@ -338,11 +338,11 @@ pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), S
     let geo = Geo { world, shapes };
     for (a, b) in box_pairs(world, shapes, t) {
         let sign = |u: Att, v: Att, w: Att| {
-            let p = |x: Att| geo.position(x, t).expect("a finite point");
+            let p = |x: Att| geo.position(x, t).expect("a vertex, not ω, has a position");
             orient(&p(u), &p(v), &p(w))
         };
         let on_segment = |u: Att, v: Att, w: Att| {
-            let p = |x: Att| geo.position(x, t).expect("a finite point");
+            let p = |x: Att| geo.position(x, t).expect("a vertex, not ω, has a position");
             let (pu, pv, pw) = (p(u), p(v), p(w));
             pu.sub(&pw).dot(&pv.sub(&pw)).sign() != Sign::Positive
         };
@@ -354,7 +354,7 @@ pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), S
                     .into_iter()
                     .map(|v| {
                         let x = Att::vertex(id, v);
-                        let q = geo.position(x, t).expect("finite");
+                        let q = geo.position(x, t).expect("a vertex, not ω, has a position");
                         (v, geo.is_real(x), [q.x.to_f64(), q.y.to_f64()])
                     })
                     .collect();

@@ -42,7 +42,10 @@ pub fn approximations(world: &Geo, at: &Rational) -> Vec<Vec<([f64; 2], bool)>> 
                 .into_iter()
                 .map(|v| {
                     let a = Att::vertex(b, v);
-                    let p = world.position(a, at).expect("a finite point").to_f64();
+                    let p = world
+                        .position(a, at)
+                        .expect("a vertex, not ω, has a position")
+                        .to_f64();
                     (p, world.is_real(a))
                 })
                 .collect(),
