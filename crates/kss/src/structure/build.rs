@@ -10,7 +10,7 @@
 //! (each polygon scaled about its centroid by `1 − ε`, with `ε` symbolic),
 //! and the caller checks that candidate exactly.
 
-use std::cell::OnceCell;
+use std::cell::{OnceCell, RefCell};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -78,8 +78,9 @@ pub(super) struct Vertices<'g, 'w> {
     mids: Vec<Option<MidRad>>,
     exact: Vec<OnceCell<Point>>,
     shrink: bool,
-    /// Each body's centroid at `t` (for `shrink`).
-    centroids: Vec<OnceCell<Point>>,
+    /// The centroids at `t` of the bodies met so far (for `shrink`; a map,
+    /// so that a local triangulation costs its own size, not the scene's).
+    centroids: RefCell<FastMap<u32, Point>>,
     towards: Vec<OnceCell<Point>>,
 }
 
@@ -96,7 +97,7 @@ impl<'g, 'w> Vertices<'g, 'w> {
             mids,
             exact: (0..n).map(|_| OnceCell::new()).collect(),
             shrink,
-            centroids: (0..world.bodies().len()).map(|_| OnceCell::new()).collect(),
+            centroids: RefCell::default(),
             towards: (0..n).map(|_| OnceCell::new()).collect(),
         }
     }
@@ -115,10 +116,15 @@ impl<'g, 'w> Vertices<'g, 'w> {
             let Obj::Body(b) = self.atts[i].obj else {
                 unreachable!("the vertices are on bodies")
             };
-            let c = self.centroids[b.0 as usize].get_or_init(|| {
-                let body = self.world.world.body(b);
-                body.traj.position_at(self.t).add(body.centroid())
-            });
+            let c = self
+                .centroids
+                .borrow_mut()
+                .entry(b.0)
+                .or_insert_with(|| {
+                    let body = self.world.world.body(b);
+                    body.traj.position_at(self.t).add(body.centroid())
+                })
+                .clone();
             c.sub(self.exact(i))
         })
     }
