@@ -77,6 +77,16 @@ impl FlypastParams {
                 self.speed
             ));
         }
+        // the construction squares the speed and divides the sizes by it
+        let span = 3.0 * (self.diameter + self.gap.abs()) / self.speed;
+        if !(self.speed * self.speed >= f64::MIN_POSITIVE && span.is_finite()) {
+            return Err(format!(
+                "speed is {:?}: too slow for diameter {:?} and gap {:?} (the run would last \
+                 beyond the doubles' range); use a speed above 1e-150 and at least \
+                 (diameter + |gap|) * 1e-300",
+                self.speed, self.diameter, self.gap
+            ));
+        }
         Ok(())
     }
 }

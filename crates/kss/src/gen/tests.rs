@@ -871,3 +871,20 @@ fn churn_refuses_bad_parameters() {
     }
     assert!(ChurnParams::default().check().is_ok());
 }
+
+/// A speed so small that the fly-past would last beyond the doubles' range
+/// is refused by the parameter check (the generator would divide by its
+/// square), and a slow one within the range is built.
+#[test]
+fn flypast_refuses_speeds_too_small_for_its_sizes() {
+    let slow = |speed: f64| FlypastParams {
+        speed,
+        diameter: 1.0,
+        ..Default::default()
+    };
+    assert!(slow(1e-167).check().is_err());
+    assert!(slow(1e-320).check().is_err());
+    assert!(slow(1e-140).check().is_ok());
+    let s = flypast(&slow(1e-140));
+    assert_eq!(s.polygons.len(), 2);
+}
