@@ -11,10 +11,11 @@
 //!
 //! The default is a short run (`KSS_FUZZ_CASES`, 150 cases). For a long
 //! one set `KSS_FUZZ_CASES` high and `KSS_FUZZ_SECONDS` to a time budget;
-//! `KSS_FUZZ_SEED` picks the first seed. Each failing text is written to
-//! `fuzz-failures/` in Cargo's test scratch folder and named in the
-//! failure message; a fixed failure becomes a scenario in
-//! `testdata/regressions/`.
+//! `KSS_FUZZ_SEED` picks the first seed; a text whose checks take longer
+//! than `KSS_FUZZ_TEXT_SECONDS` (300) is a failure, and ends the sweep.
+//! Each failing text is written to `fuzz-failures/` in Cargo's test
+//! scratch folder and named in the failure message; a fixed failure
+//! becomes a scenario in `testdata/regressions/`.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::{Duration, Instant};
@@ -273,6 +274,7 @@ fn scenario_texts_across_the_range_of_doubles() {
     let cases = env_u64("KSS_FUZZ_CASES", 150);
     let budget = Duration::from_secs(env_u64("KSS_FUZZ_SECONDS", u64::MAX / 4));
     let first = env_u64("KSS_FUZZ_SEED", 0);
+    let per_text = Duration::from_secs(env_u64("KSS_FUZZ_TEXT_SECONDS", 300));
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-failures");
     let start = Instant::now();
     let mut counts: std::collections::BTreeMap<&str, u64> = Default::default();
@@ -292,7 +294,26 @@ fn scenario_texts_across_the_range_of_doubles() {
             text = mutate(&mut rng, &text);
         }
         let case = Instant::now();
-        let verdict = check(&text);
+        // each text is checked on its own thread, so that one that does not
+        // finish within the per-text limit is reported (its thread cannot be
+        // stopped: it keeps a core, and the sweep ends there)
+        let (send, receive) = std::sync::mpsc::channel();
+        let owned = text.clone();
+        std::thread::spawn(move || send.send(check(&owned)));
+        let verdict = match receive.recv_timeout(per_text) {
+            Ok(v) => v,
+            Err(_) => {
+                std::fs::create_dir_all(&dir).expect("the failures folder");
+                let file = dir.join(format!("seed-{seed}.json"));
+                std::fs::write(&file, &text).expect("the failing text is written");
+                failures.push(format!(
+                    "seed {seed} ({}): not finished after {} s",
+                    file.display(),
+                    per_text.as_secs()
+                ));
+                break;
+            }
+        };
         if case.elapsed() > Duration::from_secs(2) {
             std::fs::create_dir_all(&dir).expect("the failures folder");
             let file = dir.join(format!("slow-seed-{seed}.json"));

@@ -28,7 +28,8 @@
 //! contact); local operations that cycle at one instant; coordinates,
 //! sizes and velocities across the whole range of doubles (near 1e308,
 //! subnormal, 1e-300 beside 1e300, a 1e-18 triangle among unit ones,
-//! scales 2^±1000 in one scene: the `extreme_*` files).
+//! scales 2^±1000 in one scene, bounces at t = 1e-307 between polygons
+//! moving at 5e307: the `extreme_*` files).
 //! Each must give byte-identical output with `brute`, `plain --audit` and
 //! `hierarchical --audit`.
 

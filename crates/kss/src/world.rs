@@ -1079,9 +1079,11 @@ fn finite_point(p: [f64; 2], what: impl Fn() -> String) -> Result<Point, Scenari
     Ok(Point::from_f64(p).expect("finite"))
 }
 
-/// `2^floor(log2 |x|)` for a positive double.
+/// `floor(log2 x)` for a positive double, clamped to the doubles'
+/// exponents (an infinite `x`, the double of a velocity beyond their
+/// range, gives 1100, not `i32::MAX`).
 fn pow2_floor(x: f64) -> i32 {
-    x.log2().floor() as i32
+    x.log2().floor().clamp(-1100.0, 1100.0) as i32
 }
 
 /// The bridge end: a dyadic time `τ > t` and a dyadic point `Q` near
@@ -1093,7 +1095,11 @@ fn bridge_anchor(
     old_v: &Point,
     away: Option<&[Rational; 2]>,
 ) -> (Rational, Point) {
-    let tf = t.to_f64().abs().max(1e-6);
+    // (2^-36 of `t` at every scale: a bounce at t = 1e-307 between bodies
+    // at 1e308 must not take a bridge as long as 2^-36 of a fixed floor,
+    // within which they would collide again and again with ever longer
+    // numbers)
+    let tf = t.to_f64().abs().max(f64::MIN_POSITIVE);
     let g = pow2_floor(tf) - 36;
     let grid_t = Rational::from_dyadic(Int::ONE, g as i64);
     // τ = (floor(t / G) + 2)·G, so τ − t ∈ (G, 2G]
@@ -1105,7 +1111,7 @@ fn bridge_anchor(
         .iter()
         .chain(of.iter())
         .fold(0.0f64, |m, x| m.max(x.abs()))
-        .max(1e-300);
+        .clamp(1e-300, f64::MAX);
     let r = pow2_floor(speed) - 30 + g;
     let target = p.add(&v.scale(&tau.sub(t)));
     let round = |x: &Rational, dir: Sign| -> Rational {
