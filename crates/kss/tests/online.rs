@@ -1326,13 +1326,11 @@ fn three_polygons_meeting_at_a_point_report_every_pair() {
 
 /// A script of the long sweep (gas seed 490): the plain structure finds a
 /// partition triangle collapsing onto a corridor with no ear to slide
-/// along, and neither a local repair nor a rebuild just after the instant:
-/// every triangulation tried is computed in doubles from positions that
-/// differ below their resolution there ("constraints cross after
-/// rounding", then "the shrunk triangulation is not valid exactly"), the
-/// construction's limit that issue 25 is about.
+/// along (every turn of the candidate ear is zero at the instant), and no
+/// rebuild just after the instant, t = 2.4677, where `g0` meets the bottom
+/// wall; the cause is not traced.
 #[test]
-#[ignore = "bug: the plain structure fails with an internal error (a triangle collapses onto a corridor with no ear; no repair or rebuild just after t = 2.4677: the triangulation in doubles cannot separate the polygons there)"]
+#[ignore = "bug: the plain structure fails with an internal error (a triangle collapses onto a corridor with no ear; no rebuild just after t = 2.4677 found)"]
 fn a_triangle_collapsing_onto_a_corridor_without_an_ear() {
     Script::new(
         2941,
