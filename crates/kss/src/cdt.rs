@@ -601,31 +601,11 @@ mod tests {
                 assert!(directed.insert((t[i], t[(i + 1) % 3])), "edge twice");
             }
         }
-        // the hull's area (monotone chain)
-        let mut s: Vec<[i128; 2]> = pts.iter().map(|q| q.map(|x| x as i128)).collect();
-        s.sort();
-        s.dedup();
-        let cross = |o: [i128; 2], a: [i128; 2], b: [i128; 2]| {
-            (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-        };
-        let mut hull: Vec<[i128; 2]> = Vec::new();
-        for pass in 0..2 {
-            let start = hull.len();
-            let it: Vec<[i128; 2]> = if pass == 0 {
-                s.clone()
-            } else {
-                s.iter().rev().copied().collect()
-            };
-            for q in it {
-                while hull.len() >= start + 2
-                    && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0
-                {
-                    hull.pop();
-                }
-                hull.push(q);
-            }
-            hull.pop();
-        }
+        // the hull's area (the generators' strict hull)
+        let hull: Vec<[i128; 2]> = crate::gen::hull_i64(pts.to_vec())
+            .iter()
+            .map(|q| q.map(|x| x as i128))
+            .collect();
         let mut hull2 = 0;
         for i in 0..hull.len() {
             let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);

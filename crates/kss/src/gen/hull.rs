@@ -4,7 +4,7 @@
 use crate::geom::{orient, Point};
 
 /// Strict convex hull of integer points (exact), counter-clockwise.
-pub(super) fn hull_i64(mut pts: Vec<[i64; 2]>) -> Vec<[i64; 2]> {
+pub(crate) fn hull_i64(mut pts: Vec<[i64; 2]>) -> Vec<[i64; 2]> {
     pts.sort();
     pts.dedup();
     if pts.len() < 3 {

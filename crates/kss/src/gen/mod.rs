@@ -58,6 +58,8 @@ pub use degenerate::{
 pub use demo::demo;
 pub use flypast::{flypast, flypast_with_info, regular_polygon, FlypastInfo, FlypastParams};
 pub use gas::{far, gas, FarParams, GasParams};
+#[cfg(test)]
+pub(crate) use hull::hull_i64;
 pub use hull::{orient_exact, strict_convex_hull};
 pub use swarm::{swarm, swarm_until, SwarmParams};
 
