@@ -26,8 +26,10 @@ pub struct BenchArgs {
     /// (flypast, gas, cluster, swarm, grazing, parallel, far, walls, gasmix).
     #[arg(long, value_name = "NAME", num_args = 1..)]
     pub workload: Vec<String>,
-    /// Methods, comma-separated: brute, plain, hierarchical, sweep,
-    /// parry-toi, parry-step:N (fixed time step 1/N). Default: all, with
+    /// Methods, comma-separated: brute, plain, hierarchical,
+    /// hierarchical-all (the hierarchy approximating every polygon, not
+    /// only those of more than 32 vertices), sweep, parry-toi, parry-step:N
+    /// (fixed time step 1/N). Default: all but hierarchical-all, with
     /// parry-step:30 and parry-step:240.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub methods: Vec<String>,

@@ -182,10 +182,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Error> {
             .iter()
             .any(|c| c.outcome.build_seconds.is_some());
         let timed_build = earlier.cells.iter().any(|c| {
-            matches!(
-                Method::parse(&c.method),
-                Ok(Method::Brute | Method::Plain | Method::Hierarchical)
-            ) && c.outcome.status == Status::Ok
+            Method::parse(&c.method).is_ok_and(|m| m.is_library()) && c.outcome.status == Status::Ok
         });
         if earlier.methods != methods
             || earlier.workloads != workloads

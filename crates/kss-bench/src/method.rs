@@ -11,8 +11,13 @@ pub enum Method {
     Brute,
     /// kss's kinetic separation structure without hierarchy (`kss::run`, plain).
     Plain,
-    /// kss's separation-sensitive structure (`kss::run`, hierarchical).
+    /// kss's separation-sensitive structure (`kss::run`, hierarchical), with
+    /// its default [`kss::DEFAULT_APPROXIMATE_ABOVE`]: polygons of at most
+    /// that many vertices take part as they are.
     Hierarchical,
+    /// The hierarchical structure approximating every polygon
+    /// (`approximate_above` 0), for comparing with the default.
+    HierarchicalAll,
     /// Kinetic sort-and-sweep with exact pair times ([`crate::sweep`]).
     Sweep,
     /// parry2d-f64 time of impact, all pairs, event-driven.
@@ -39,12 +44,14 @@ impl Method {
     }
 
     /// The name on the command line: `brute`, `plain`, `hierarchical`,
-    /// `sweep`, `parry-toi`, `parry-step:N` (time step 1/N).
+    /// `hierarchical-all`, `sweep`, `parry-toi`, `parry-step:N` (time step
+    /// 1/N).
     pub fn name(&self) -> String {
         match self {
             Method::Brute => "brute".into(),
             Method::Plain => "plain".into(),
             Method::Hierarchical => "hierarchical".into(),
+            Method::HierarchicalAll => "hierarchical-all".into(),
             Method::Sweep => "sweep".into(),
             Method::ParryToi => "parry-toi".into(),
             Method::ParryStep { per_unit } => format!("parry-step:{per_unit}"),
@@ -65,12 +72,13 @@ impl Method {
             "brute" => Method::Brute,
             "plain" => Method::Plain,
             "hierarchical" => Method::Hierarchical,
+            "hierarchical-all" => Method::HierarchicalAll,
             "sweep" => Method::Sweep,
             "parry-toi" => Method::ParryToi,
             _ => {
                 let Some(n) = s.strip_prefix("parry-step:") else {
                     return Err(format!(
-                        "unknown method {s:?}: use brute, plain, hierarchical, sweep, parry-toi or parry-step:N (time step 1/N)"
+                        "unknown method {s:?}: use brute, plain, hierarchical, hierarchical-all, sweep, parry-toi or parry-step:N (time step 1/N)"
                     ));
                 };
                 let per_unit: u32 = n
@@ -87,7 +95,11 @@ impl Method {
     pub fn is_exact(&self) -> bool {
         matches!(
             self,
-            Method::Brute | Method::Plain | Method::Hierarchical | Method::Sweep
+            Method::Brute
+                | Method::Plain
+                | Method::Hierarchical
+                | Method::HierarchicalAll
+                | Method::Sweep
         )
     }
 
@@ -110,9 +122,9 @@ impl Method {
         deadline: Deadline,
     ) -> Result<(Vec<Event>, Counters), Failure> {
         match self {
-            Method::Brute => run_library(scenario, StructureKind::Brute),
-            Method::Plain => run_library(scenario, StructureKind::Plain),
-            Method::Hierarchical => run_library(scenario, StructureKind::Hierarchical),
+            Method::Brute | Method::Plain | Method::Hierarchical | Method::HierarchicalAll => {
+                run_library(scenario, self.options())
+            }
             Method::Sweep => crate::sweep::run(scenario, deadline),
             Method::ParryToi => crate::parry::run_toi(scenario, deadline),
             Method::ParryStep { per_unit } => {
@@ -126,12 +138,8 @@ impl Method {
 /// deadline: the harness's child process is killed when over budget).
 fn run_library(
     scenario: &Scenario,
-    structure: StructureKind,
+    options: RunOptions,
 ) -> Result<(Vec<Event>, Counters), Failure> {
-    let options = RunOptions {
-        structure,
-        ..Default::default()
-    };
     let mut events = Vec::new();
     let stats = kss::run(scenario, &options, &mut |e| {
         events.push(Event {
@@ -157,6 +165,34 @@ fn run_library(
     ))
 }
 
+impl Method {
+    /// Whether the method is one of the library's structures (through
+    /// `kss::run`).
+    pub fn is_library(&self) -> bool {
+        matches!(
+            self,
+            Method::Brute | Method::Plain | Method::Hierarchical | Method::HierarchicalAll
+        )
+    }
+
+    /// The options of `kss::run` for one of the library's structures.
+    fn options(&self) -> RunOptions {
+        let structure = match self {
+            Method::Brute => StructureKind::Brute,
+            Method::Plain => StructureKind::Plain,
+            _ => StructureKind::Hierarchical,
+        };
+        RunOptions {
+            structure,
+            approximate_above: match self {
+                Method::HierarchicalAll => 0,
+                _ => kss::DEFAULT_APPROXIMATE_ABOVE,
+            },
+            ..Default::default()
+        }
+    }
+}
+
 /// The construction-only run of [`Method::build_seconds`]: `kss::run` up
 /// to the smallest positive normal double (the scenario's contract wants
 /// `until > 0`), so that nothing but the world (with its validation) and
@@ -170,16 +206,12 @@ impl Method {
     /// events processed by then (normally none). `None` for the other
     /// methods.
     pub fn build_seconds(&self, scenario: &Scenario) -> Option<Result<(f64, u64), Failure>> {
-        let structure = match self {
-            Method::Brute => StructureKind::Brute,
-            Method::Plain => StructureKind::Plain,
-            Method::Hierarchical => StructureKind::Hierarchical,
-            _ => return None,
-        };
+        if !self.is_library() {
+            return None;
+        }
         let options = RunOptions {
-            structure,
             until: Some(BUILD_UNTIL),
-            ..Default::default()
+            ..self.options()
         };
         let start = std::time::Instant::now();
         let result = kss::run(scenario, &options, &mut |_| {});

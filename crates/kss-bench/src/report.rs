@@ -738,10 +738,7 @@ fn cost_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<Wor
 
 /// Whether `method` is one of the library's structures (through `kss::run`).
 fn is_library(method: &str) -> bool {
-    matches!(
-        Method::parse(method),
-        Ok(Method::Brute | Method::Plain | Method::Hierarchical)
-    )
+    Method::parse(method).is_ok_and(|m| m.is_library())
 }
 
 /// `mean (min–max)` of integers, or the value if all are equal.

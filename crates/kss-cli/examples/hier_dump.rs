@@ -1,6 +1,7 @@
 //! Debugging aid: run a scenario with the kinetic structure (hierarchical
 //! unless `plain` is given) up to a time and print every certificate with
-//! its owners and failure time, and each body's exposed approximation.
+//! its owners and failure time, and each body's exposed approximation (the
+//! hierarchy approximates every polygon here).
 //!
 //! `cargo run -p kss-cli --example hier_dump -- SCENARIO.json TIME [plain]`
 use kss::{RunOptions, StructureKind};
@@ -18,6 +19,7 @@ fn main() {
     let options = RunOptions {
         structure,
         audit: true,
+        approximate_above: 0,
         ..Default::default()
     };
     let state = kss::runner::plain_state_at(&s, &options, time).unwrap();

@@ -135,6 +135,11 @@ pub struct RunArgs {
     /// The kinetic structure.
     #[arg(long, value_enum, default_value_t = StructureArg::Hierarchical)]
     pub structure: StructureArg,
+    /// With the hierarchical structure: polygons of at most N vertices take
+    /// part as they are, only larger ones through outer approximations (0
+    /// approximates every polygon). The collisions do not depend on it.
+    #[arg(long, value_name = "N", default_value_t = kss::DEFAULT_APPROXIMATE_ABOVE)]
+    pub approximate_above: usize,
     /// Replace the scenario's `until` (flight-plan changes after it are ignored).
     #[arg(long, value_name = "T", value_parser = parse_positive)]
     pub until: Option<f64>,
@@ -334,6 +339,11 @@ pub struct RenderArgs {
     /// The kinetic structure used to simulate up to the instant.
     #[arg(long, value_enum, default_value_t = StructureArg::Hierarchical)]
     pub structure: StructureArg,
+    /// With the hierarchical structure: polygons of at most N vertices take
+    /// part as they are, only larger ones through outer approximations (0
+    /// approximates every polygon). The collisions do not depend on it.
+    #[arg(long, value_name = "N", default_value_t = kss::DEFAULT_APPROXIMATE_ABOVE)]
+    pub approximate_above: usize,
     /// Picture width in pixels.
     #[arg(long, default_value_t = 800)]
     pub width: u32,
@@ -380,4 +390,9 @@ pub struct DemoArgs {
     /// The kinetic structure.
     #[arg(long, value_enum, default_value_t = StructureArg::Hierarchical)]
     pub structure: StructureArg,
+    /// With the hierarchical structure: polygons of at most N vertices take
+    /// part as they are, only larger ones through outer approximations (0
+    /// approximates every polygon). The collisions do not depend on it.
+    #[arg(long, value_name = "N", default_value_t = kss::DEFAULT_APPROXIMATE_ABOVE)]
+    pub approximate_above: usize,
 }

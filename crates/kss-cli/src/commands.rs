@@ -299,6 +299,7 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
         structure: StructureKind::from(args.structure),
         until: args.until,
         audit: args.audit,
+        approximate_above: args.approximate_above,
         ..Default::default()
     };
     let mut sink = EventSink::new(args.stats.is_some());
@@ -577,6 +578,7 @@ pub fn render(args: &RenderArgs) -> Result<(), CliError> {
     let structure = StructureKind::from(args.structure);
     let options = RunOptions {
         structure,
+        approximate_above: args.approximate_above,
         ..Default::default()
     };
     let with_structure = options.structure != StructureKind::Brute && !args.no_structure;
@@ -669,6 +671,7 @@ pub fn demo(args: &DemoArgs) -> Result<(), CliError> {
     let mut events: Vec<CollisionEvent> = Vec::new();
     let options = RunOptions {
         structure,
+        approximate_above: args.approximate_above,
         ..Default::default()
     };
     let stats = kss::run(&scenario, &options, &mut |e| events.push(e.clone()))
@@ -697,6 +700,7 @@ pub fn demo(args: &DemoArgs) -> Result<(), CliError> {
     }
     let options = RunOptions {
         structure,
+        approximate_above: args.approximate_above,
         ..Default::default()
     };
     let snapshot = kss::runner::snapshot_at(&scenario, &options, when)

@@ -998,18 +998,26 @@ fn churn_scenes_give_identical_events_with_every_structure() {
             );
             let events = stdout(&brute);
             inserted_collisions += events.lines().filter(|l| l.contains("\"c")).count();
-            for structure in ["plain", "hierarchical"] {
-                let o = run_text(&scenario, structure, &[]);
+            // (the hierarchy approximating every polygon, the larger ones
+            // only, and with the default, which sees these as they are)
+            let configurations: [(&str, &[&str]); 4] = [
+                ("plain", &[]),
+                ("hierarchical", &["--approximate-above", "0"]),
+                ("hierarchical", &["--approximate-above", "6"]),
+                ("hierarchical", &[]),
+            ];
+            for (structure, extra) in configurations {
+                let o = run_text(&scenario, structure, extra);
                 assert_eq!(
                     o.status.code(),
                     Some(0),
-                    "seed {seed} {mode} {structure}: {}",
+                    "seed {seed} {mode} {structure} {extra:?}: {}",
                     stderr(&o)
                 );
                 assert_eq!(
                     stdout(&o),
                     events,
-                    "seed {seed} {mode}: {structure} and brute differ"
+                    "seed {seed} {mode}: {structure} {extra:?} and brute differ"
                 );
             }
         }

@@ -4,8 +4,11 @@
 //! mixed in one scene), flight-plan changes and every collision mode.
 //!
 //! For every text: parsing never panics; on a parsed scenario, `brute`,
-//! `plain` and `hierarchical` (with the audit after every event on scenes
-//! of up to 24 vertices) never panic and never report an internal error;
+//! `plain` and `hierarchical`, the latter both with every polygon
+//! approximated and with the default (only polygons of more than
+//! [`kss::DEFAULT_APPROXIMATE_ABOVE`] vertices approximated), with the audit
+//! after every event on scenes of up to 24 vertices, never panic and never
+//! report an internal error;
 //! they accept or refuse the scenario alike; and where they run, the
 //! structures report brute's collisions exactly (times, pairs, repeats).
 //!
@@ -201,8 +204,13 @@ fn mutate(rng: &mut Rng, text: &str) -> String {
 
 type Events = Vec<(kss::num::Time, String, String, bool)>;
 
-/// The events of one run, or its error; `Err(None)` for a panic.
-fn events(s: &kss::Scenario, structure: StructureKind) -> Result<Result<Events, RunError>, String> {
+/// The events of one run, or its error; `Err(None)` for a panic. With
+/// the hierarchy, polygons of more than `above` vertices are approximated.
+fn events(
+    s: &kss::Scenario,
+    structure: StructureKind,
+    above: usize,
+) -> Result<Result<Events, RunError>, String> {
     // (the audit checks every invariant exactly after every event: on
     // scenes with hundreds of vertices and thousand-bit numbers that is
     // minutes per scene, so the large ones run without it)
@@ -210,6 +218,7 @@ fn events(s: &kss::Scenario, structure: StructureKind) -> Result<Result<Events, 
     let opts = RunOptions {
         structure,
         audit: structure != StructureKind::Brute && vertices <= 24,
+        approximate_above: above,
         ..Default::default()
     };
     catch_unwind(AssertUnwindSafe(|| {
@@ -234,13 +243,25 @@ fn check(text: &str) -> Result<&'static str, String> {
     let Ok(s) = parsed else {
         return Ok("refused by the parser");
     };
-    let brute = events(&s, StructureKind::Brute).map_err(|p| format!("brute panicked: {p}"))?;
+    let brute = events(&s, StructureKind::Brute, 0).map_err(|p| format!("brute panicked: {p}"))?;
     if let Err(RunError::Internal(e)) = &brute {
         return Err(format!("brute: internal error: {e}"));
     }
-    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-        let name = structure.name();
-        let got = events(&s, structure).map_err(|p| format!("{name} panicked: {p}"))?;
+    let configurations = [
+        (StructureKind::Plain, 0, "plain"),
+        (
+            StructureKind::Hierarchical,
+            0,
+            "hierarchical (every polygon approximated)",
+        ),
+        (
+            StructureKind::Hierarchical,
+            kss::DEFAULT_APPROXIMATE_ABOVE,
+            "hierarchical",
+        ),
+    ];
+    for (structure, above, name) in configurations {
+        let got = events(&s, structure, above).map_err(|p| format!("{name} panicked: {p}"))?;
         match (&brute, &got) {
             (_, Err(RunError::Internal(e))) => {
                 return Err(format!("{name}: internal error: {e}"));

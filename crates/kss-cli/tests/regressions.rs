@@ -31,17 +31,32 @@
 //! scales 2^±1000 in one scene, bounces at t = 1e-307 between polygons
 //! moving at 5e307: the `extreme_*` files).
 //! Each must give byte-identical output with `brute`, `plain --audit` and
-//! `hierarchical --audit`.
+//! `hierarchical --audit`, the hierarchy approximating every polygon (as
+//! when the files were found: their polygons are small) and, for the
+//! regression scenarios, with its default too.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn run(file: &Path, structure: &str) -> String {
-    let mut args = vec!["run".to_string(), file.display().to_string()];
-    args.extend(["--structure".to_string(), structure.to_string()]);
+/// The arguments that select `structure` with the audit (not for
+/// `brute`): `hierarchical` approximates every polygon, and
+/// `hierarchical-default` is the hierarchy with its default
+/// `--approximate-above`.
+fn structure_args(structure: &str) -> Vec<String> {
+    let name = structure.trim_end_matches("-default");
+    let mut args = vec!["--structure".to_string(), name.to_string()];
     if structure != "brute" {
         args.push("--audit".to_string());
     }
+    if structure == "hierarchical" {
+        args.extend(["--approximate-above".to_string(), "0".to_string()]);
+    }
+    args
+}
+
+fn run(file: &Path, structure: &str) -> String {
+    let mut args = vec!["run".to_string(), file.display().to_string()];
+    args.extend(structure_args(structure));
     let out = Command::new(env!("CARGO_BIN_EXE_kss"))
         .args(&args)
         .output()
@@ -69,16 +84,18 @@ fn scenarios_in(folder: &str) -> Vec<PathBuf> {
     files
 }
 
-/// `plain` and `hierarchical` (with the audit) print exactly `want`, what
-/// `brute` prints for `file`.
+/// `plain` and `hierarchical`, with every polygon approximated and with
+/// the default, (with the audit) print exactly `want`, what `brute` prints
+/// for `file`.
 fn assert_structures_agree(file: &Path, want: &str) {
-    assert_eq!(run(file, "plain"), want, "{} with plain", file.display());
-    assert_eq!(
-        run(file, "hierarchical"),
-        want,
-        "{} with hierarchical",
-        file.display()
-    );
+    for structure in ["plain", "hierarchical", "hierarchical-default"] {
+        assert_eq!(
+            run(file, structure),
+            want,
+            "{} with {structure}",
+            file.display()
+        );
+    }
 }
 
 #[test]
@@ -105,7 +122,7 @@ fn stats_of(name: &str, structure: &str) -> serde_json::Value {
     ));
     let out = Command::new(env!("CARGO_BIN_EXE_kss"))
         .args(["run", &file.display().to_string()])
-        .args(["--structure", structure, "--audit"])
+        .args(structure_args(structure))
         .args(["--stats", &stats.display().to_string()])
         .output()
         .expect("kss runs");

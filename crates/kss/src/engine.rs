@@ -198,22 +198,21 @@ impl Finder for BruteEngine {
     }
 }
 
-pub(crate) fn make_engine(
-    world: &World,
-    structure: StructureKind,
-    audit: bool,
-    pair_method: PairMethod,
-) -> Result<Backend, RunError> {
-    match structure {
+pub(crate) fn make_engine(world: &World, options: &crate::SimOptions) -> Result<Backend, RunError> {
+    let audit = options.audit;
+    match options.structure {
         StructureKind::Brute => Ok(Backend::Other(Box::new(BruteEngine(Brute::new(
             world,
-            pair_method,
+            options.pair_method,
         ))))),
         StructureKind::Plain => Ok(Backend::Kinetic(Box::new(KineticEngine::new(
-            world, audit, false,
+            world, audit, false, 0,
         )?))),
         StructureKind::Hierarchical => Ok(Backend::Kinetic(Box::new(KineticEngine::new(
-            world, audit, true,
+            world,
+            audit,
+            true,
+            options.approximate_above,
         )?))),
     }
 }
@@ -318,6 +317,10 @@ pub(crate) struct KineticEngine {
     responded: Option<Responded>,
     /// Approximations (`hierarchical`) or the polygons themselves (`plain`).
     hierarchical: bool,
+    /// With the hierarchy, the polygons of at most this many vertices are
+    /// seen as they are, not approximated
+    /// ([`crate::RunOptions::approximate_above`]).
+    approximate_above: usize,
     /// The instant of the latest [`Finder::update`] (0 before the first).
     last_update: Rational,
     /// The reference, standing in while polygons rest in contact (see
@@ -395,11 +398,12 @@ impl KineticEngine {
         world: &World,
         audit: bool,
         hierarchical: bool,
+        approximate_above: usize,
     ) -> Result<KineticEngine, RunError> {
         let mut shapes = Shapes::default();
         let mut pops = 0;
         if hierarchical {
-            shapes = refine::coarsest_shapes(world);
+            shapes = refine::coarsest_shapes(world, approximate_above);
             pops = refine::separate_all_at(world, &mut shapes, &Rational::zero())
                 .map_err(RunError::Internal)?;
         }
@@ -443,6 +447,7 @@ impl KineticEngine {
             contact_instant: None,
             responded: None,
             hierarchical,
+            approximate_above,
             last_update: Rational::zero(),
             stand_in: None,
             stand_in_max: 0,
@@ -760,7 +765,7 @@ impl KineticEngine {
         }
         let mut shapes = Shapes::default();
         if self.hierarchical {
-            shapes = refine::coarsest_shapes(world);
+            shapes = refine::coarsest_shapes(world, self.approximate_above);
             refine::separate_all_strictly_after(world, &mut shapes, now)
                 .map_err(RunError::Internal)?;
         }
@@ -1208,7 +1213,7 @@ impl KineticEngine {
         let mut shapes = self.shapes.clone();
         if self.hierarchical {
             shapes.per.resize(world.len(), None);
-            shapes.per[b.index()] = refine::coarsest_shape(world.body(b));
+            shapes.per[b.index()] = refine::coarsest_shape(world.body(b), self.approximate_above);
             if let Err(e) = refine::separate_all_strictly_after(world, &mut shapes, now) {
                 self.k.unbuildable = Some(now.clone());
                 return Err(RunError::Internal(e));

@@ -145,6 +145,7 @@ pub mod world;
 
 pub use runner::{
     run, run_with_finder, CollisionEvent, RunError, RunOptions, RunStats, StructureKind,
+    DEFAULT_APPROXIMATE_ABOVE,
 };
 pub use scenario::{
     CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, Scenario, ScenarioError,

@@ -46,7 +46,7 @@ use crate::scenario::{CollisionMode, PolygonSpec, Scenario, ScenarioError};
 use crate::world::{BodyId, Refused, World};
 
 /// Options of a [`Simulation`].
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct SimOptions {
     /// The structure that finds the collisions.
     pub structure: StructureKind,
@@ -55,6 +55,22 @@ pub struct SimOptions {
     pub audit: bool,
     /// For the brute-force structure: how a pair's contact time is computed.
     pub pair_method: PairMethod,
+    /// For the hierarchical structure: polygons of at most this many
+    /// vertices take part as they are, only larger ones through outer
+    /// approximations ([`crate::RunOptions::approximate_above`]; default
+    /// [`crate::DEFAULT_APPROXIMATE_ABOVE`], 0 approximates every polygon).
+    pub approximate_above: usize,
+}
+
+impl Default for SimOptions {
+    fn default() -> SimOptions {
+        SimOptions {
+            structure: StructureKind::default(),
+            audit: false,
+            pair_method: PairMethod::default(),
+            approximate_above: crate::DEFAULT_APPROXIMATE_ABOVE,
+        }
+    }
 }
 
 /// Why a call on a [`Simulation`] was refused. Every variant but
@@ -195,12 +211,7 @@ impl Simulation {
     pub(crate) fn from_world(world: World, options: &SimOptions) -> Result<Simulation, SimError> {
         let start = std::time::Instant::now();
         let counters_before = crate::structure::counters::snapshot().to_vec();
-        let engine = make_engine(
-            &world,
-            options.structure,
-            options.audit,
-            options.pair_method,
-        )?;
+        let engine = make_engine(&world, options)?;
         Simulation::assemble(world, engine, options, start, counters_before)
     }
 

@@ -53,10 +53,14 @@ fn scripts() -> u64 {
     }
 }
 
+/// The options of a structure in the lockstep runs: the audit after every
+/// call, and the hierarchy approximating every polygon (the scripts'
+/// polygons are small: with the default most would take part as they are).
 fn options(structure: StructureKind) -> SimOptions {
     SimOptions {
         structure,
         audit: structure != StructureKind::Brute,
+        approximate_above: 0,
         ..Default::default()
     }
 }
@@ -953,6 +957,7 @@ fn scenario_insertion_while_sliding() {
         let opts = kss::RunOptions {
             structure: *structure,
             audit: true,
+            approximate_above: 0,
             ..Default::default()
         };
         let mut n = 0;

@@ -5,11 +5,36 @@
 //! sweeps 100,000 scenarios instead of the CI subset.
 
 use kss::gen::{generate_small, Family};
-use kss::StructureKind;
+use kss::{Scenario, StructureKind};
 
 mod common;
 
-use common::events;
+use common::{events, events_above};
+
+/// Which polygons the hierarchy approximates in a sweep.
+#[derive(Clone, Copy, PartialEq)]
+enum Approximated {
+    /// Every polygon (`approximate_above` 0).
+    All,
+    /// The polygons with more vertices than the mean of the scene's
+    /// smallest and largest vertex counts: a mix of approximated polygons
+    /// and polygons that take part as they are, or none approximated where
+    /// all have one size.
+    Larger,
+}
+
+/// The `approximate_above` of [`Approximated::Larger`] for `s`, and
+/// whether the scene mixes approximated polygons with polygons taken as
+/// they are.
+fn middle_count(s: &Scenario) -> (usize, bool) {
+    let counts = s
+        .polygons
+        .iter()
+        .chain(s.insertions.iter().map(|i| &i.polygon))
+        .map(|p| p.vertices.len());
+    let (lo, hi) = counts.fold((usize::MAX, 0), |(lo, hi), n| (lo.min(n), hi.max(n)));
+    ((lo + hi) / 2, lo < hi)
+}
 
 fn seeds() -> u64 {
     match std::env::var("KSS_SLOW") {
@@ -33,7 +58,7 @@ const DEGENERATE: [Family; 3] = [Family::Simultaneous, Family::Grazing, Family::
 
 #[test]
 fn plain_matches_brute_on_generic_families() {
-    let (total, rebuilds) = sweep(&GENERIC, StructureKind::Plain);
+    let (total, rebuilds) = sweep(&GENERIC, StructureKind::Plain, Approximated::All);
     assert_eq!(
         rebuilds, 0,
         "rebuilds on generic families ({total} scenarios)"
@@ -49,7 +74,7 @@ fn plain_matches_brute_on_generic_families() {
 /// that allows none.
 #[test]
 fn plain_matches_brute_on_degenerate_families() {
-    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain);
+    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Plain, Approximated::All);
     assert_rebuilds_rare(StructureKind::Plain, total, rebuilds);
 }
 
@@ -61,11 +86,12 @@ fn assert_rebuilds_rare(structure: StructureKind, total: usize, rebuilds: u64) {
     );
 }
 
-/// The hierarchical structure on the generic families: same events as the
-/// reference, with the audit (approximations included) after every event.
+/// The hierarchical structure on the generic families, every polygon
+/// approximated: same events as the reference, with the audit
+/// (approximations included) after every event.
 #[test]
 fn hierarchical_matches_brute_on_generic_families() {
-    let (total, rebuilds) = sweep(&GENERIC, StructureKind::Hierarchical);
+    let (total, rebuilds) = sweep(&GENERIC, StructureKind::Hierarchical, Approximated::All);
     assert_eq!(
         rebuilds, 0,
         "rebuilds on generic families ({total} scenarios)"
@@ -74,13 +100,24 @@ fn hierarchical_matches_brute_on_generic_families() {
 
 #[test]
 fn hierarchical_matches_brute_on_degenerate_families() {
-    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Hierarchical);
+    let (total, rebuilds) = sweep(&DEGENERATE, StructureKind::Hierarchical, Approximated::All);
+    assert_rebuilds_rare(StructureKind::Hierarchical, total, rebuilds);
+}
+
+/// The hierarchy with only the larger polygons of each scene approximated
+/// (the others take part as they are, as with the default on small
+/// polygons): the same events as the reference on every family, with the
+/// audit after every event.
+#[test]
+fn hierarchical_with_the_larger_polygons_approximated_matches_brute() {
+    let families: Vec<Family> = GENERIC.iter().chain(&DEGENERATE).copied().collect();
+    let (total, rebuilds) = sweep(&families, StructureKind::Hierarchical, Approximated::Larger);
     assert_rebuilds_rare(StructureKind::Hierarchical, total, rebuilds);
 }
 
 /// Run every seed of `families` with the reference and `structure`; returns
 /// the number of scenarios and the degenerate rebuilds `structure` needed.
-fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
+fn sweep(families: &[Family], structure: StructureKind, approx: Approximated) -> (usize, u64) {
     let mut total = 0usize;
     let mut rebuilds = 0u64;
     let mut stand_ins = 0u64;
@@ -92,11 +129,21 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     // runs that ended with an error, and runs that finished with other
     // events than the reference's (the worse kind: a silent disagreement)
     let (mut errors, mut disagreements) = (0usize, 0usize);
+    // scenes with approximated polygons beside polygons taken as they are
+    let mut mixed = 0usize;
     for &family in families {
         for seed in 0..seeds() {
             let s = generate_small(family, seed);
             let (want, _) = events(&s, StructureKind::Brute, false).expect("brute runs");
-            let got = events(&s, structure, true).map(|(got, stats)| {
+            let above = match approx {
+                Approximated::All => 0,
+                Approximated::Larger => {
+                    let (above, mix) = middle_count(&s);
+                    mixed += usize::from(mix && structure == StructureKind::Hierarchical);
+                    above
+                }
+            };
+            let got = events_above(&s, structure, true, above).map(|(got, stats)| {
                 rebuilds += stats.degenerate_rebuilds;
                 stand_ins += stats.stand_ins;
                 if stats.stand_ins > 0 || stats.degenerate_rebuilds > 0 {
@@ -132,7 +179,8 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
         }
     }
     eprintln!(
-        "{}: {total} scenarios, {with_events} with collisions, {} failures \
+        "{}: {total} scenarios ({mixed} mixing approximated polygons with others), \
+         {with_events} with collisions, {} failures \
          ({errors} errors, {disagreements} disagreements), {rebuilds} rebuilds, \
          {repairs} local repairs, {stand_ins} stand-ins of the reference",
         structure.name(),
@@ -161,6 +209,10 @@ fn sweep(families: &[Family], structure: StructureKind) -> (usize, u64) {
     assert!(
         with_events * 3 > total,
         "the sweep must exercise collisions"
+    );
+    assert!(
+        approx == Approximated::All || mixed * 3 > total,
+        "only {mixed} of {total} scenes mix approximated polygons with others"
     );
     (total, rebuilds)
 }

@@ -2374,7 +2374,7 @@ mod tests {
                 for hierarchical in [false, true] {
                     let mut shapes = crate::structure::geo::Shapes::default();
                     if hierarchical {
-                        shapes = crate::structure::refine::coarsest_shapes(&world);
+                        shapes = crate::structure::refine::coarsest_shapes(&world, 0);
                     }
                     let geo = Geo {
                         world: &world,
@@ -2432,7 +2432,7 @@ mod tests {
             for seed in 0..12 {
                 let s = generate_small(family, seed);
                 let world = World::new(&s, None).unwrap();
-                let mut shapes = crate::structure::refine::coarsest_shapes(&world);
+                let mut shapes = crate::structure::refine::coarsest_shapes(&world, 0);
                 crate::structure::refine::separate_all_at(&world, &mut shapes, &Rational::zero())
                     .unwrap();
                 let geo = Geo {

@@ -24,20 +24,27 @@ use crate::motion::dot_poly;
 use crate::num::{Rational, Sign, Time};
 use crate::world::{Body, BodyId, World};
 
-/// Every alive body seen through the coarsest approximation of its
-/// hierarchy (at most about 32 lines each).
-pub fn coarsest_shapes(world: &World) -> Shapes {
+/// Every alive body with more than `above` vertices seen through the
+/// coarsest approximation of its hierarchy (at most about 32 lines each);
+/// the others as they are ([`coarsest_shape`]).
+pub fn coarsest_shapes(world: &World, above: usize) -> Shapes {
     Shapes {
-        per: world.bodies().iter().map(coarsest_shape).collect(),
+        per: world
+            .bodies()
+            .iter()
+            .map(|b| coarsest_shape(b, above))
+            .collect(),
         mids: Default::default(),
         faces: Default::default(),
         links: Default::default(),
     }
 }
 
-/// The coarsest approximation of `b`'s hierarchy (`None` for a removed body).
-pub fn coarsest_shape(b: &Body) -> Option<Approx> {
-    b.alive.then(|| {
+/// The coarsest approximation of `b`'s hierarchy; `None` for a removed
+/// body, and for a polygon of at most `above` vertices, which the structure
+/// then sees as it is (as the plain structure does).
+pub fn coarsest_shape(b: &Body, above: usize) -> Option<Approx> {
+    (b.alive && b.shape.len() > above).then(|| {
         let array = Arc::new(EdgeArray::new(&b.shape));
         let exposed = array.coarsest();
         let memo = super::geo::EnclosureMemo::new(exposed.len());
@@ -430,7 +437,7 @@ mod tests {
             for seed in 0..20 {
                 let s = generate_small(family, seed);
                 let world = World::new(&s, None).unwrap();
-                let mut shapes = coarsest_shapes(&world);
+                let mut shapes = coarsest_shapes(&world, 0);
                 separate_all_at(&world, &mut shapes, &Rational::zero()).unwrap();
                 let geo = Geo {
                     world: &world,

@@ -8,16 +8,31 @@ use kss::{run, RunOptions, RunStats, Scenario, StructureKind};
 pub type Events = Vec<(Time, String, String)>;
 
 /// The collision events and statistics of a run of `s` with `structure`,
-/// with the audit after every event if `audit`.
+/// with the audit after every event if `audit`. The hierarchy approximates
+/// every polygon here (`approximate_above` 0): the generated polygons are
+/// small, and with the default most of them would take part as they are.
 pub fn events(
     s: &Scenario,
     structure: StructureKind,
     audit: bool,
 ) -> Result<(Events, RunStats), String> {
+    events_above(s, structure, audit, 0)
+}
+
+/// [`events`] with the hierarchy approximating only the polygons of more
+/// than `above` vertices.
+#[allow(dead_code)] // (not every test binary that shares this module uses it)
+pub fn events_above(
+    s: &Scenario,
+    structure: StructureKind,
+    audit: bool,
+    above: usize,
+) -> Result<(Events, RunStats), String> {
     let mut out = Vec::new();
     let opts = RunOptions {
         structure,
         audit,
+        approximate_above: above,
         ..Default::default()
     };
     let stats = run(s, &opts, &mut |e| {
