@@ -9,13 +9,15 @@
 //! constrained Delaunay triangulation, and a caller may answer `false`
 //! whenever it is unsure.
 //!
-//! The steps: a sweep in lexicographic order builds a first triangulation
-//! (each vertex joined to the hull edges it sees); Lawson flips make it
-//! Delaunay where the circle test is certain; each segment that is not yet
-//! an edge is inserted by flipping the edges that cross it (Sloan's method:
-//! an edge whose quadrilateral is strictly convex is flipped, the others
-//! wait their turn); a last round of flips restores the Delaunay property
-//! around the new edges, never flipping a segment.
+//! The steps: the vertices are inserted one by one in a biased randomized
+//! order (each located by a walk, joined to the triangle or the hull edges
+//! around it, and made Delaunay around it by Lawson flips where the circle
+//! test is certain); each segment that is not yet an edge is inserted by
+//! flipping the edges that cross it (Sloan's method: an edge whose
+//! quadrilateral is strictly convex is flipped, the others wait their
+//! turn); a last round of flips restores the Delaunay property around the
+//! new edges, never flipping a segment. Edges inside an obstacle (between
+//! two vertices of one convex polygon) are never flipped.
 //!
 //! Why it is not a crate: the triangulation crates work on doubles, and
 //! the structure's vertices are exact rationals at a rational instant
@@ -41,6 +43,22 @@ pub trait Predicates {
     /// counter-clockwise triangle `(a, b, c)`. Answering `false` when
     /// unsure keeps the triangulation valid (it may then not be Delaunay).
     fn in_circle(&self, a: usize, b: usize, c: usize, d: usize) -> bool;
+    /// Whether an edge between `a` and `b` lies on or inside a convex
+    /// obstacle whose boundary edges are all segments (both are vertices
+    /// of it): the shape of the triangulation there does not matter, and
+    /// such an edge is never flipped for the Delaunay property. Without it,
+    /// the flips inside a polygon of many vertices, nearly cocircular
+    /// ones above all, can number in the square of its vertex count. The
+    /// default: no edge is.
+    fn same_obstacle(&self, _a: usize, _b: usize) -> bool {
+        false
+    }
+    /// An approximate position of `a`, for the order in which the vertices
+    /// are inserted (only the speed depends on it; `None` where there is
+    /// none). The default: none.
+    fn position_hint(&self, _a: usize) -> Option<[f64; 2]> {
+        None
+    }
 }
 
 /// Why a triangulation could not be built (each is a degenerate input,
@@ -177,11 +195,8 @@ pub fn triangulate(
     segments: &[[usize; 2]],
     p: &impl Predicates,
 ) -> Result<Vec<[usize; 3]>, CdtError> {
-    let mut mesh = sweep(n, p)?;
-    let fixed: HashSet<(u32, u32), foldhash::fast::FixedState> = HashSet::default();
-    let all: Vec<(u32, u32)> = interior_edges(&mesh);
-    legalize(&mut mesh, all, &fixed, p);
-    let mut fixed = fixed;
+    let mut mesh = delaunay(n, p)?;
+    let mut fixed: HashSet<(u32, u32), foldhash::fast::FixedState> = HashSet::default();
     let mut crossing = Vec::new();
     for &[u, v] in segments {
         debug_assert_ne!(u, v, "a segment joins two vertices");
@@ -206,26 +221,22 @@ pub fn triangulate(
     Ok(mesh.tri.iter().map(|t| t.map(|v| v as usize)).collect())
 }
 
-/// Every interior edge once.
-fn interior_edges(mesh: &Mesh) -> Vec<(u32, u32)> {
-    let mut out = Vec::with_capacity(3 * mesh.tri.len() / 2);
-    for (t, c) in mesh.tri.iter().enumerate() {
-        for i in 0..3 {
-            let u = mesh.nbr[t][i];
-            if u != NONE && (t as u32) < u {
-                out.push((c[i], c[(i + 1) % 3]));
-            }
-        }
-    }
-    out
-}
+/// The seed of the insertion order (any fixed value: the order must be the
+/// same on every run, and only the speed depends on it).
+const ORDER_SEED: u64 = 0x006b_7373_5f63_6474;
 
-/// The sweep: vertices in lexicographic order, each joined to the hull
-/// edges it sees strictly.
-fn sweep(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| p.cmp(a, b));
-    for w in order.windows(2) {
+/// The Delaunay triangulation (where the circle test is certain) of the
+/// vertices: inserted one by one in a biased randomized order
+/// ([`insertion_order`]), each located by a walk from the previous one
+/// ([`locate`]) and made Delaunay around by flips before the next. A
+/// random order keeps the expected number of flips linear; an order along
+/// a line (a sweep) does not: inserted in `x` order, the vertices of two
+/// large polygons facing each other across a gap cost a number of flips in
+/// the square of their count.
+fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
+    let mut sorted: Vec<usize> = (0..n).collect();
+    sorted.sort_by(|&a, &b| p.cmp(a, b));
+    for w in sorted.windows(2) {
         if p.cmp(w[0], w[1]) == Ordering::Equal {
             return Err(CdtError::Coincident(w[0], w[1]));
         }
@@ -233,144 +244,308 @@ fn sweep(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
     if n < 3 {
         return Err(CdtError::Collinear);
     }
-    // the collinear start: order[0..k] on one line, in order along it
-    let mut k = 2;
-    while k < n && p.orient(order[0], order[1], order[k]) == Sign::Zero {
-        k += 1;
-    }
-    if k == n {
+    let order = insertion_order(n, p);
+    // the first triangle: the first two vertices and the first one off
+    // their line
+    let (a0, b0) = (order[0], order[1]);
+    let Some(k) = (2..n).find(|&k| p.orient(a0, b0, order[k]) != Sign::Zero) else {
         return Err(CdtError::Collinear);
+    };
+    let c0 = order[k];
+    let first = if p.orient(a0, b0, c0) == Sign::Positive {
+        [a0, b0, c0]
+    } else {
+        [b0, a0, c0]
     }
+    .map(|v| v as u32);
     let mut mesh = Mesh {
         tri: Vec::with_capacity(2 * n),
         nbr: Vec::with_capacity(2 * n),
         at: vec![NONE; n],
     };
-    // the hull, counter-clockwise, and for each hull edge `v → next[v]`
-    // the triangle holding it
-    let mut next = vec![NONE; n];
-    let mut prev = vec![NONE; n];
-    let mut edge_tri = vec![NONE; n];
-    let apex = order[k] as u32;
-    let ccw = p.orient(order[0], order[1], order[k]) == Sign::Positive;
-    for i in 0..k - 1 {
-        let (x, y) = (order[i] as u32, order[i + 1] as u32);
-        let t = mesh.tri.len() as u32;
-        let (c, n_prev_side, n_next_side) = if ccw {
-            // (x, y, apex): sides x→y (hull), y→apex (next fan), apex→x (previous)
-            ([x, y, apex], 2, 1)
-        } else {
-            // (y, x, apex): sides y→x (hull), x→apex (previous), apex→y (next)
-            ([y, x, apex], 1, 2)
-        };
-        let mut nb = [NONE; 3];
-        if i > 0 {
-            nb[n_prev_side] = t - 1;
-        }
-        if i + 2 < k {
-            nb[n_next_side] = t + 1;
-        }
-        mesh.tri.push(c);
-        mesh.nbr.push(nb);
-        mesh.at[x as usize] = t;
-        mesh.at[y as usize] = t;
-        mesh.at[apex as usize] = t;
-        next[c[0] as usize] = c[1];
-        prev[c[1] as usize] = c[0];
-        edge_tri[c[0] as usize] = t;
+    mesh.tri.push(first);
+    mesh.nbr.push([NONE; 3]);
+    // the hull, counter-clockwise (the interior on the left of `v → next[v]`)
+    let mut hull = Hull {
+        next: vec![NONE; n],
+        prev: vec![NONE; n],
+    };
+    for i in 0..3 {
+        let (x, y) = (first[i], first[(i + 1) % 3]);
+        mesh.at[x as usize] = 0;
+        hull.next[x as usize] = y;
+        hull.prev[y as usize] = x;
     }
-    let (first, last) = (order[0] as u32, order[k - 1] as u32);
-    let last_t = mesh.tri.len() as u32 - 1;
-    if ccw {
-        // hull: order[0] → … → order[k−1] → apex → order[0]
-        next[last as usize] = apex;
-        prev[apex as usize] = last;
-        edge_tri[last as usize] = last_t;
-        next[apex as usize] = first;
-        prev[first as usize] = apex;
-        edge_tri[apex as usize] = 0;
-    } else {
-        // hull: order[k−1] → … → order[0] → apex → order[k−1]
-        next[first as usize] = apex;
-        prev[apex as usize] = first;
-        edge_tri[first as usize] = 0;
-        next[apex as usize] = last;
-        prev[last as usize] = apex;
-        edge_tri[apex as usize] = last_t;
-    }
-    let sees = |a: u32, b: u32, v: usize| p.orient(a as usize, b as usize, v) == Sign::Negative;
-    let mut q = apex;
-    for &v in &order[k + 1..] {
-        // the hull edges `v` sees form one chain; the last vertex added
-        // (the lexicographic maximum so far) ends one of them
-        let mut right = q;
-        while sees(right, next[right as usize], v) {
-            right = next[right as usize];
-        }
-        let mut left = q;
-        while sees(prev[left as usize], left, v) {
-            left = prev[left as usize];
-        }
-        if left == right {
-            // not expected; find a seen edge anywhere on the hull
-            let mut x = q;
-            loop {
-                if sees(x, next[x as usize], v) {
-                    break;
-                }
-                x = next[x as usize];
-                if x == q {
-                    return Err(CdtError::Collinear);
-                }
-            }
-            left = x;
-            right = next[x as usize];
-            while sees(right, next[right as usize], v) {
-                right = next[right as usize];
-            }
-            while sees(prev[left as usize], left, v) {
-                left = prev[left as usize];
-            }
+    let no_segments = HashSet::default();
+    let mut rng = crate::rng::Rng::new(ORDER_SEED);
+    let mut hint = 0u32;
+    for (idx, &v) in order.iter().enumerate() {
+        if idx < 2 || idx == k {
+            continue;
         }
         let v32 = v as u32;
-        let mut a = left;
-        let mut before = NONE;
-        let first_new = mesh.tri.len() as u32;
-        while a != right {
-            let b = next[a as usize];
-            let t = mesh.tri.len() as u32;
-            let below = edge_tri[a as usize];
-            // (b, a, v): sides b→a (the old hull edge), a→v, v→b
-            mesh.tri.push([b, a, v32]);
-            mesh.nbr.push([below, before, NONE]);
-            mesh.link(below, a, b, t);
-            if before != NONE {
-                mesh.nbr[before as usize][2] = t;
-            }
-            mesh.at[a as usize] = t;
-            mesh.at[b as usize] = t;
-            mesh.at[v] = t;
-            if a != left {
-                next[a as usize] = NONE;
-                prev[a as usize] = NONE;
-            }
-            before = t;
-            a = b;
-        }
-        let last_new = mesh.tri.len() as u32 - 1;
-        next[left as usize] = v32;
-        prev[v] = left;
-        edge_tri[left as usize] = first_new;
-        next[v] = right;
-        prev[right as usize] = v32;
-        edge_tri[v] = last_new;
-        q = v32;
+        let link = match locate(&mesh, hint, v, p, &mut rng) {
+            Located::Inside(t) => split_triangle(&mut mesh, t, v32),
+            Located::OnSide(t, i) => split_side(&mut mesh, &mut hull, t, i, v32),
+            Located::Outside(t, i) => attach_outside(&mut mesh, &mut hull, t, i, v32, p),
+            Located::Corner(w) => return Err(CdtError::Coincident(v, w as usize)),
+        };
+        legalize(&mut mesh, link, &no_segments, p);
+        hint = mesh.at[v];
     }
     Ok(mesh)
 }
 
-/// Lawson's flips from the edges in `todo`: an edge that is not a segment,
-/// whose far corner is certainly inside the circle of its near triangle
+/// The convex hull as a cycle of vertices (`NONE` for the others).
+struct Hull {
+    next: Vec<u32>,
+    prev: Vec<u32>,
+}
+
+/// The insertion order: a biased randomized insertion order (the vertices
+/// shuffled, then cut into rounds of doubling size), each round sorted
+/// along a Hilbert curve through the approximate positions
+/// ([`Predicates::position_hint`]) so that the walk from one vertex to the
+/// next is short. Vertices without a hint end their round, in random order.
+fn insertion_order(n: usize, p: &impl Predicates) -> Vec<usize> {
+    let mut rng = crate::rng::Rng::new(ORDER_SEED);
+    let mut order: Vec<usize> = (0..n).collect();
+    for i in (1..n).rev() {
+        let j = rng.below(i as u64 + 1) as usize;
+        order.swap(i, j);
+    }
+    let hints: Vec<Option<[f64; 2]>> = (0..n)
+        .map(|i| {
+            p.position_hint(i)
+                .filter(|h| h[0].is_finite() && h[1].is_finite())
+        })
+        .collect();
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for h in hints.iter().flatten() {
+        for c in 0..2 {
+            lo[c] = lo[c].min(h[c]);
+            hi[c] = hi[c].max(h[c]);
+        }
+    }
+    // (a cell of a 2^16 × 2^16 grid over the hints' box; a NaN of an
+    // overflowing span becomes cell 0, which only costs speed)
+    let cell =
+        |x: f64, c: usize| ((x - lo[c]) / (hi[c] - lo[c]) * 65535.0).clamp(0.0, 65535.0) as u32;
+    let key = |i: usize| hints[i].map_or(u64::MAX, |h| hilbert(cell(h[0], 0), cell(h[1], 1)));
+    let (mut start, mut end) = (0, n.min(64));
+    loop {
+        order[start..end].sort_by_key(|&i| key(i));
+        if end == n {
+            break;
+        }
+        (start, end) = (end, n.min(2 * end));
+    }
+    order
+}
+
+/// The position of cell `(x, y)` (each below 2^16) along a Hilbert curve
+/// through the 2^16 × 2^16 grid.
+fn hilbert(mut x: u32, mut y: u32) -> u64 {
+    const SIDE: u32 = 1 << 16;
+    let mut d = 0u64;
+    let mut s = SIDE / 2;
+    while s > 0 {
+        let rx = u64::from(x & s != 0);
+        let ry = u64::from(y & s != 0);
+        d += u64::from(s) * u64::from(s) * ((3 * rx) ^ ry);
+        if ry == 0 {
+            if rx == 1 {
+                x = SIDE - 1 - x;
+                y = SIDE - 1 - y;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        s /= 2;
+    }
+    d
+}
+
+/// Where a new vertex lies in the mesh.
+enum Located {
+    /// Strictly inside triangle `t`.
+    Inside(u32),
+    /// On side `i` of triangle `t`, strictly between its ends.
+    OnSide(u32, usize),
+    /// Outside the hull, strictly beyond side `i` of triangle `t` (a hull
+    /// edge).
+    Outside(u32, usize),
+    /// At this vertex.
+    Corner(u32),
+}
+
+/// Locate vertex `v` by a walk from triangle `start`: across a side that
+/// `v` is strictly beyond, chosen from a random first side and never back
+/// the way it came (a remembering stochastic walk, which ends on every
+/// triangulation, Delaunay or not).
+fn locate(
+    mesh: &Mesh,
+    start: u32,
+    v: usize,
+    p: &impl Predicates,
+    rng: &mut crate::rng::Rng,
+) -> Located {
+    let mut t = start;
+    let mut from = NONE;
+    'walk: loop {
+        let c = mesh.tri[t as usize];
+        let r = rng.below(3) as usize;
+        let mut zero = [false; 3];
+        for s in 0..3 {
+            let i = (r + s) % 3;
+            let across = mesh.nbr[t as usize][i];
+            // (the side it came by: `v` is strictly on this side of it)
+            if across != NONE && across == from {
+                continue;
+            }
+            match p.orient(c[i] as usize, c[(i + 1) % 3] as usize, v) {
+                Sign::Negative if across == NONE => return Located::Outside(t, i),
+                Sign::Negative => {
+                    from = t;
+                    t = across;
+                    continue 'walk;
+                }
+                Sign::Zero => zero[i] = true,
+                Sign::Positive => {}
+            }
+        }
+        return match zero {
+            [false, false, false] => Located::Inside(t),
+            [true, false, false] => Located::OnSide(t, 0),
+            [false, true, false] => Located::OnSide(t, 1),
+            [false, false, true] => Located::OnSide(t, 2),
+            // on two sides' lines: at their common corner
+            [true, true, _] => Located::Corner(c[1]),
+            [_, true, true] => Located::Corner(c[2]),
+            [true, _, true] => Located::Corner(c[0]),
+        };
+    }
+}
+
+/// Split triangle `t` at `v`, strictly inside it, into three; returns its
+/// three old sides (to make Delaunay).
+fn split_triangle(mesh: &mut Mesh, t: u32, v: u32) -> Vec<(u32, u32)> {
+    let [a, b, c] = mesh.tri[t as usize];
+    let [n_ab, n_bc, n_ca] = mesh.nbr[t as usize];
+    let (t1, t2) = (mesh.tri.len() as u32, mesh.tri.len() as u32 + 1);
+    mesh.tri[t as usize] = [a, b, v];
+    mesh.nbr[t as usize] = [n_ab, t1, t2];
+    mesh.tri.push([b, c, v]);
+    mesh.nbr.push([n_bc, t2, t]);
+    mesh.tri.push([c, a, v]);
+    mesh.nbr.push([n_ca, t, t1]);
+    mesh.link(n_bc, c, b, t1);
+    mesh.link(n_ca, a, c, t2);
+    mesh.at[a as usize] = t;
+    mesh.at[b as usize] = t;
+    mesh.at[v as usize] = t;
+    mesh.at[c as usize] = t1;
+    vec![(a, b), (b, c), (c, a)]
+}
+
+/// Split the side `i` of `t` at `v`, strictly between its ends: its two
+/// triangles (one on the hull) into four (two); returns the sides of the
+/// new triangles opposite `v` (to make Delaunay).
+fn split_side(mesh: &mut Mesh, hull: &mut Hull, t: u32, i: usize, v: u32) -> Vec<(u32, u32)> {
+    let c3 = mesh.tri[t as usize];
+    let (a, b, c) = (c3[i], c3[(i + 1) % 3], c3[(i + 2) % 3]);
+    let u = mesh.nbr[t as usize][i];
+    let n_bc = mesh.nbr[t as usize][(i + 1) % 3];
+    let n_ca = mesh.nbr[t as usize][(i + 2) % 3];
+    // t = (a, v, c) and t1 = (v, b, c); across the side, u = (b, v, d) and
+    // u1 = (v, a, d)
+    let t1 = mesh.tri.len() as u32;
+    let u1 = if u == NONE { NONE } else { t1 + 1 };
+    mesh.tri[t as usize] = [a, v, c];
+    mesh.nbr[t as usize] = [u1, t1, n_ca];
+    mesh.tri.push([v, b, c]);
+    mesh.nbr.push([u, n_bc, t]);
+    mesh.link(n_bc, c, b, t1);
+    mesh.at[a as usize] = t;
+    mesh.at[c as usize] = t;
+    mesh.at[v as usize] = t;
+    mesh.at[b as usize] = t1;
+    let mut link = vec![(c, a), (b, c)];
+    if u == NONE {
+        hull.next[a as usize] = v;
+        hull.prev[v as usize] = a;
+        hull.next[v as usize] = b;
+        hull.prev[b as usize] = v;
+        return link;
+    }
+    let j = mesh.side(u, b, a).expect("the neighbour holds the side");
+    let d = mesh.tri[u as usize][(j + 2) % 3];
+    let n_ad = mesh.nbr[u as usize][(j + 1) % 3];
+    let n_db = mesh.nbr[u as usize][(j + 2) % 3];
+    mesh.tri[u as usize] = [b, v, d];
+    mesh.nbr[u as usize] = [t1, u1, n_db];
+    mesh.tri.push([v, a, d]);
+    mesh.nbr.push([t, n_ad, u]);
+    mesh.link(n_ad, d, a, u1);
+    mesh.at[d as usize] = u;
+    link.extend([(d, b), (a, d)]);
+    link
+}
+
+/// Join `v`, outside the hull and strictly beyond its edge on side `i` of
+/// `t`, to every hull edge it sees strictly (one chain); returns those
+/// edges, now inside (to make Delaunay).
+fn attach_outside(
+    mesh: &mut Mesh,
+    hull: &mut Hull,
+    t: u32,
+    i: usize,
+    v: u32,
+    p: &impl Predicates,
+) -> Vec<(u32, u32)> {
+    let sees = |a: u32, b: u32| p.orient(a as usize, b as usize, v as usize) == Sign::Negative;
+    let c3 = mesh.tri[t as usize];
+    let (mut left, mut right) = (c3[i], c3[(i + 1) % 3]);
+    while sees(right, hull.next[right as usize]) {
+        right = hull.next[right as usize];
+    }
+    while sees(hull.prev[left as usize], left) {
+        left = hull.prev[left as usize];
+    }
+    let mut covered = Vec::new();
+    let mut a = left;
+    let mut before = NONE;
+    while a != right {
+        let b = hull.next[a as usize];
+        let t = mesh.tri.len() as u32;
+        let below = mesh.find(a, b).map_or(NONE, |(tb, _)| tb);
+        // (b, a, v): sides b→a (the old hull edge), a→v, v→b
+        mesh.tri.push([b, a, v]);
+        mesh.nbr.push([below, before, NONE]);
+        mesh.link(below, a, b, t);
+        if before != NONE {
+            mesh.nbr[before as usize][2] = t;
+        }
+        mesh.at[a as usize] = t;
+        mesh.at[b as usize] = t;
+        mesh.at[v as usize] = t;
+        if a != left {
+            hull.next[a as usize] = NONE;
+            hull.prev[a as usize] = NONE;
+        }
+        covered.push((a, b));
+        before = t;
+        a = b;
+    }
+    hull.next[left as usize] = v;
+    hull.prev[v as usize] = left;
+    hull.next[v as usize] = right;
+    hull.prev[right as usize] = v;
+    covered
+}
+
+/// Lawson's flips from the edges in `todo`: an edge that is not a segment
+/// nor inside an obstacle ([`Predicates::same_obstacle`]), whose far corner is certainly inside the circle of its near triangle
 /// and whose quadrilateral is strictly convex, is flipped.
 fn legalize(
     mesh: &mut Mesh,
@@ -379,7 +554,7 @@ fn legalize(
     p: &impl Predicates,
 ) {
     while let Some((a, b)) = todo.pop() {
-        if fixed.contains(&(a.min(b), a.max(b))) {
+        if fixed.contains(&(a.min(b), a.max(b))) || p.same_obstacle(a as usize, b as usize) {
             continue;
         }
         let Some((t, i)) = mesh.find_either(a, b) else {
@@ -649,6 +824,71 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Two polygons of 3000 vertices each (regular ones rounded to the
+    /// grid, on circles of radius 10^7) facing each other across a gap of
+    /// about 3: the number of circle tests stays linear in the vertex
+    /// count (inserted along a line, they numbered in its square), and the
+    /// result is a valid constrained triangulation.
+    #[test]
+    fn two_large_polygons_across_a_small_gap_take_linear_work() {
+        struct Counting {
+            ints: Ints,
+            body: Vec<usize>,
+            circle_tests: std::cell::Cell<u64>,
+        }
+        impl Predicates for Counting {
+            fn cmp(&self, a: usize, b: usize) -> Ordering {
+                self.ints.cmp(a, b)
+            }
+            fn orient(&self, a: usize, b: usize, c: usize) -> Sign {
+                self.ints.orient(a, b, c)
+            }
+            fn in_circle(&self, a: usize, b: usize, c: usize, d: usize) -> bool {
+                self.circle_tests.set(self.circle_tests.get() + 1);
+                self.ints.in_circle(a, b, c, d)
+            }
+            fn same_obstacle(&self, a: usize, b: usize) -> bool {
+                self.body[a] == self.body[b]
+            }
+            fn position_hint(&self, a: usize) -> Option<[f64; 2]> {
+                Some(self.ints.0[a].map(|x| x as f64))
+            }
+        }
+        let r = 1e7;
+        let ring = |cx: i64, cy: i64| {
+            let pts: Vec<[i64; 2]> = (0..3000)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / 3000.0;
+                    [
+                        cx + (r * a.cos()).round() as i64,
+                        cy + (r * a.sin()).round() as i64,
+                    ]
+                })
+                .collect();
+            crate::gen::hull_i64(pts)
+        };
+        let (first, second) = (ring(0, 0), ring(14_142_200, 14_142_200));
+        let mut pts = first.clone();
+        pts.extend(&second);
+        let body: Vec<usize> = (0..pts.len())
+            .map(|i| usize::from(i >= first.len()))
+            .collect();
+        let mut segments = Vec::new();
+        for (base, n) in [(0, first.len()), (first.len(), second.len())] {
+            segments.extend((0..n).map(|i| [base + i, base + (i + 1) % n]));
+        }
+        let p = Counting {
+            ints: Ints(pts.clone()),
+            body,
+            circle_tests: std::cell::Cell::new(0),
+        };
+        let tris = triangulate(pts.len(), &segments, &p).expect("a triangulation");
+        check(&pts, &segments, &tris, false);
+        let n = pts.len() as u64;
+        let tests = p.circle_tests.get();
+        assert!(tests <= 20 * n, "{tests} circle tests for {n} vertices");
     }
 
     #[test]

@@ -190,6 +190,17 @@ impl cdt::Predicates for Vertices<'_, '_> {
             _ => false,
         }
     }
+
+    /// Two vertices of one body (polygon or approximation, convex, its
+    /// edges segments of every triangulation here; the shrunk copy too):
+    /// the segment between them is one of its edges or inside it.
+    fn same_obstacle(&self, a: usize, b: usize) -> bool {
+        self.atts[a].obj == self.atts[b].obj
+    }
+
+    fn position_hint(&self, a: usize) -> Option<[f64; 2]> {
+        self.mids[a].map(|m| [m.x, m.y])
+    }
 }
 
 fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError> {
