@@ -656,6 +656,11 @@ impl KineticEngine {
             .as_rational()
             .ok_or_else(|| RunError::Internal("irrational collision time".into()))?;
         for &(a, b) in pairs {
+            // (only approximation points are popped: a pair of polygons
+            // seen as they are has none)
+            if self.shapes.approx(a).is_none() && self.shapes.approx(b).is_none() {
+                continue;
+            }
             // a pair that still interpenetrates gets another response at
             // this instant first
             let again = || {
@@ -1183,21 +1188,28 @@ impl KineticEngine {
         Ok(at.map(|t| (t, contacts)))
     }
 
-    /// [`Finder::insert`] on the structure. Plain: the region around the
-    /// body nearest to the new one is triangulated again with it
+    /// [`Finder::insert`] on the structure. Plain, and the hierarchy while
+    /// no polygon is approximated (all have at most `approximate_above`
+    /// vertices, the new one too: the structure is plain's): the region
+    /// around the body nearest to the new one is triangulated again with it
     /// ([`Kinetic::insert_body`], counted as `local_insert`). Where that
-    /// does not work, and always for the hierarchy (its new approximation
-    /// is the coarsest one, popped with the others until every two are
-    /// apart), the structure is built again for just after `now` (counted
-    /// as `insert_rebuild`; polygons may touch at `now`, after a collision
-    /// response, and where two stay in contact no structure exists and the
-    /// reference stands in, see `stand_in`). (An insertion in place with
-    /// the hierarchy leaves two approximations near the region overlapping
-    /// later without an event on one script of the long online sweep,
-    /// `approximations_overlap_after_calls_at_one_instant`, not understood
-    /// yet: the hierarchy builds again.)
+    /// does not work, and always for the hierarchy with approximations (the
+    /// new approximation is the coarsest one, popped with the others until
+    /// every two are apart), the structure is built again for just after
+    /// `now` (counted as `insert_rebuild`; polygons may touch at `now`,
+    /// after a collision response, and where two stay in contact no
+    /// structure exists and the reference stands in, see `stand_in`). (An
+    /// insertion in place with approximations leaves two of them near the
+    /// region overlapping later without an event on one script of the long
+    /// online sweep, `approximations_overlap_after_calls_at_one_instant`,
+    /// not understood yet: the hierarchy builds again.)
     fn kinetic_insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
-        if !self.hierarchical {
+        let as_plain = !self.hierarchical
+            || (world.body(b).shape.len() <= self.approximate_above
+                && self.shapes.per.iter().all(Option::is_none));
+        if as_plain {
+            // (every body has its entry, the new one `None`)
+            self.shapes.per.resize(world.len(), None);
             let geo = Geo {
                 world,
                 shapes: &self.shapes,

@@ -22,19 +22,38 @@ use kss::{
     CollisionEvent, PolygonSpec, ScenarioError, SimError, SimOptions, Simulation, StructureKind,
 };
 
+/// A structure of the lockstep runs, and for the hierarchy its
+/// `approximate_above`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Kind(StructureKind, usize);
+
+impl Kind {
+    fn name(&self) -> String {
+        match self {
+            Kind(StructureKind::Hierarchical, 0) => {
+                "hierarchical (every polygon approximated)".into()
+            }
+            Kind(s, _) => s.name().into(),
+        }
+    }
+}
+
 /// The structures compared; the first is the reference that drives the
-/// script.
-const ALL: &[StructureKind] = &[
-    StructureKind::Brute,
-    StructureKind::Plain,
-    StructureKind::Hierarchical,
+/// script. The hierarchy twice: approximating every polygon (the scripts'
+/// polygons are small), and with its default, which takes them as they
+/// are.
+const ALL: &[Kind] = &[
+    Kind(StructureKind::Brute, 0),
+    Kind(StructureKind::Plain, 0),
+    Kind(StructureKind::Hierarchical, 0),
+    Kind(StructureKind::Hierarchical, kss::DEFAULT_APPROXIMATE_ABOVE),
 ];
 
 /// What the scripts of a sweep do.
 #[derive(Clone, Copy, Debug)]
 struct Config {
     /// The structures run in lockstep, the reference first.
-    kinds: &'static [StructureKind],
+    kinds: &'static [Kind],
     /// Whether polygons enter after time 0 (otherwise only at time 0,
     /// before the first advance).
     late_insertions: bool,
@@ -53,14 +72,13 @@ fn scripts() -> u64 {
     }
 }
 
-/// The options of a structure in the lockstep runs: the audit after every
-/// call, and the hierarchy approximating every polygon (the scripts'
-/// polygons are small: with the default most would take part as they are).
-fn options(structure: StructureKind) -> SimOptions {
+/// The options of a structure in the lockstep runs (the audit after every
+/// call).
+fn options(Kind(structure, above): Kind) -> SimOptions {
     SimOptions {
         structure,
         audit: structure != StructureKind::Brute,
-        approximate_above: 0,
+        approximate_above: above,
         ..Default::default()
     }
 }
@@ -157,7 +175,7 @@ impl Counts {
 /// call; every call's outcome and the scene after it are compared with the
 /// reference's.
 struct Lockstep {
-    kinds: &'static [StructureKind],
+    kinds: &'static [Kind],
     sims: Vec<Simulation>,
     /// The scene and the calls so far (for failure messages).
     log: Vec<String>,
@@ -165,7 +183,7 @@ struct Lockstep {
 }
 
 impl Lockstep {
-    fn new(what: String, kinds: &'static [StructureKind], polygons: &[PolygonSpec]) -> Lockstep {
+    fn new(what: String, kinds: &'static [Kind], polygons: &[PolygonSpec]) -> Lockstep {
         let sims = kinds
             .iter()
             .map(|&k| {
@@ -955,9 +973,9 @@ fn scenario_insertion_while_sliding() {
     };
     for structure in ALL {
         let opts = kss::RunOptions {
-            structure: *structure,
+            structure: structure.0,
             audit: true,
-            approximate_above: 0,
+            approximate_above: structure.1,
             ..Default::default()
         };
         let mut n = 0;
