@@ -662,8 +662,12 @@ impl World {
         let old_v = body.traj.velocity().clone();
         let (tau, q) = bridge_anchor(t, &p, &v, &old_v, away);
         let dt = Time::from_rational(tau.clone());
-        let span = tau.sub(t);
-        let mid = q.sub(&p).scale(&Rational::one().div(&span));
+        // (q − p) / (τ − t), each coordinate reduced once
+        let span = Frac::of(&tau).sub(&Frac::of(t));
+        let mid = Point {
+            x: Frac::of(&q.x).sub(&Frac::of(&p.x)).div(&span).reduced(),
+            y: Frac::of(&q.y).sub(&Frac::of(&p.y)).div(&span).reduced(),
+        };
         body.set_traj(Trajectory::through(t, &p, mid));
         let seq = self.seq;
         self.seq += 1;
@@ -1101,10 +1105,9 @@ fn bridge_anchor(
     // numbers)
     let tf = t.to_f64().abs().max(f64::MIN_POSITIVE);
     let g = pow2_floor(tf) - 36;
-    let grid_t = Rational::from_dyadic(Int::ONE, g as i64);
-    // τ = (floor(t / G) + 2)·G, so τ − t ∈ (G, 2G]
-    let k = t.div(&grid_t).floor() + Int::from(2);
-    let tau = Rational::from_dyadic(k, g as i64);
+    // τ = (floor(t / G) + 2)·G with G = 2^g, so τ − t ∈ (G, 2G]
+    let (k, _) = Frac::of(t).floor_scaled(-i64::from(g));
+    let tau = Rational::from_dyadic(k + Int::from(2), i64::from(g));
     let vf = v.to_f64();
     let of = old_v.to_f64();
     let speed = vf
@@ -1113,24 +1116,101 @@ fn bridge_anchor(
         .fold(0.0f64, |m, x| m.max(x.abs()))
         .clamp(1e-300, f64::MAX);
     let r = pow2_floor(speed) - 30 + g;
-    let target = p.add(&v.scale(&tau.sub(t)));
-    let round = |x: &Rational, dir: Sign| -> Rational {
+    // the target p + v·(τ − t), unreduced
+    let span = Frac::of(&tau).sub(&Frac::of(t));
+    let target = |p: &Rational, v: &Rational| Frac::of(p).add(&Frac::of(v).mul(&span));
+    let round = |x: Frac, dir: Sign| -> Rational {
         // x / 2^r rounded in direction `dir`, times 2^r
-        let scaled = x.mul(&Rational::from_dyadic(Int::ONE, -(r as i64)));
-        let fl = scaled.floor();
-        let exact = Rational::from_int(fl.clone()) == scaled;
+        let (fl, exact) = x.floor_scaled(-i64::from(r));
         let m = match dir {
             Sign::Positive if !exact => fl + Int::ONE,
             _ => fl,
         };
-        Rational::from_dyadic(m, r as i64)
+        Rational::from_dyadic(m, i64::from(r))
     };
     let dir = |i: usize| away.map_or(Sign::Zero, |a| a[i].sign());
     let q = Point {
-        x: round(&target.x, dir(0)),
-        y: round(&target.y, dir(1)),
+        x: round(target(&p.x, &v.x), dir(0)),
+        y: round(target(&p.y, &v.y), dir(1)),
     };
     (tau, q)
+}
+
+/// An exact fraction `num / den` (`den > 0`) kept unreduced: the bridge's
+/// intermediate values, each final one reduced once ([`Frac::reduced`])
+/// rather than after every operation (a reduction is a gcd of numbers as
+/// long as the collision time's).
+struct Frac {
+    num: Int,
+    den: Int,
+}
+
+impl Frac {
+    fn of(x: &Rational) -> Frac {
+        Frac {
+            num: x.numer().clone(),
+            den: x.denom().clone(),
+        }
+    }
+
+    fn add(&self, o: &Frac) -> Frac {
+        if self.den == o.den {
+            return Frac {
+                num: &self.num + &o.num,
+                den: self.den.clone(),
+            };
+        }
+        Frac {
+            num: &self.num * &o.den + &o.num * &self.den,
+            den: &self.den * &o.den,
+        }
+    }
+
+    fn sub(&self, o: &Frac) -> Frac {
+        self.add(&Frac {
+            num: -o.num.clone(),
+            den: o.den.clone(),
+        })
+    }
+
+    fn mul(&self, o: &Frac) -> Frac {
+        Frac {
+            num: &self.num * &o.num,
+            den: &self.den * &o.den,
+        }
+    }
+
+    /// `self / o` (`o` not zero).
+    fn div(&self, o: &Frac) -> Frac {
+        let (num, den) = (&self.num * &o.den, &self.den * &o.num);
+        if den < Int::ZERO {
+            Frac {
+                num: -num,
+                den: -den,
+            }
+        } else {
+            Frac { num, den }
+        }
+    }
+
+    fn reduced(self) -> Rational {
+        Rational::new(self.num, self.den)
+    }
+
+    /// `floor(self · 2^e)`, and whether that is its exact value.
+    fn floor_scaled(&self, e: i64) -> (Int, bool) {
+        let (n, d) = if e >= 0 {
+            (self.num.clone() << (e as usize), self.den.clone())
+        } else {
+            (self.num.clone(), self.den.clone() << ((-e) as usize))
+        };
+        let (q, rem) = (&n / &d, &n % &d);
+        if rem < Int::ZERO {
+            (q - Int::ONE, false)
+        } else {
+            (q, rem.is_zero())
+        }
+    }
 }
 
 #[cfg(test)]
