@@ -850,7 +850,17 @@ impl Kinetic {
         // waited for this response). Under the new motions that shape may be
         // wrong, and the certificates, which keep the signs the structure
         // read, would not notice: such a corridor is normalized again.
-        let reshape = self.straight_now(world, &touched, now);
+        // (whether the f64 filter leaves each one's turn at `now` undecided:
+        // asked once here for both uses below)
+        let undecided: Vec<bool> = touched
+            .iter()
+            .map(|p| {
+                world
+                    .orient_filtered(p[0], p[1], p[2], now.interval())
+                    .is_none()
+            })
+            .collect();
+        let reshape = self.straight_now(world, &touched, &undecided, now);
         // A bridge (an end or the middle one) between two vertices that rest on each other has
         // length zero, its corner the two ends' together; under the new
         // motions they may part, and the corridor's certificates are then
@@ -861,7 +871,7 @@ impl Kinetic {
             eprintln!("resting at {}: {resting:?}", now.to_f64());
             self.kss.trace_dump();
         }
-        for p in touched {
+        for (p, undecided) in touched.into_iter().zip(undecided) {
             let Some(s) = self.certs.get(&p) else {
                 continue;
             };
@@ -869,10 +879,7 @@ impl Kinetic {
             // (the three points slide along one line); the filter rules
             // that out wherever it decides a sign
             let lp = |a: Att| world.point(a);
-            let zero = world
-                .orient_filtered(p[0], p[1], p[2], now.interval())
-                .is_none()
-                && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
+            let zero = undecided && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
             let owners: Vec<Owner> = s.owners.clone();
             if s.cert.kind == super::certs::CertKind::Order {
                 // an order certificate whose three points leave their common
@@ -1012,18 +1019,22 @@ impl Kinetic {
     }
 
     /// The corridors between two bodies that own one of the turn
-    /// certificates `ps` whose turn is zero at `now` (but not for ever).
-    fn straight_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
+    /// certificates `ps` whose turn is zero at `now` (but not for ever);
+    /// `undecided[i]`: whether the f64 filter leaves the turn of `ps[i]` at
+    /// `now` undecided (where it decides, the turn is not zero).
+    fn straight_now(
+        &self,
+        world: &Geo,
+        ps: &[[Att; 3]],
+        undecided: &[bool],
+        now: &Time,
+    ) -> BTreeSet<CorrId> {
         let mut out = BTreeSet::new();
-        for p in ps {
+        for (p, &undecided) in ps.iter().zip(undecided) {
             let Some(s) = self.certs.get(p) else {
                 continue;
             };
-            if s.cert.kind == super::certs::CertKind::Order
-                || world
-                    .orient_filtered(p[0], p[1], p[2], now.interval())
-                    .is_some()
-            {
+            if s.cert.kind == super::certs::CertKind::Order || !undecided {
                 continue;
             }
             let lp = |a: Att| world.point(a);
