@@ -925,9 +925,11 @@ impl World {
                 },
             )
         };
+        // (a candidate is a vertex of its own polygon, so on it: only the
+        // other polygon is tested)
         let on_both: Vec<[f64; 2]> = candidates
             .iter()
-            .filter(|&&p| inside(false, p) && inside(true, p))
+            .filter(|&&p| inside(!p.0, p))
             .map(|&(on_b, i)| body_of(on_b).vertex(i).at(t).to_f64())
             .collect();
         if on_both.is_empty() {
