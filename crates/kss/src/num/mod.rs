@@ -135,9 +135,27 @@ pub fn sign_a_plus_b_sqrt_plus_c_sqrt(a: &Int, b: &Int, d1: &Int, c: &Int, d2: &
 
 /// The least common multiple of two positive integers.
 pub fn lcm(a: &Int, b: &Int) -> Int {
-    use dashu_base::Gcd;
+    use dashu_base::{BitTest, Gcd};
     if a == b {
         return a.clone();
+    }
+    // a power of two (the denominators of dyadic values) by shifts: the
+    // lcm of `x` and `2^k` is `x·2^(k − tz(x))` if `k > tz(x)`, else `x`
+    // (for positive `x`)
+    let pow2 = |x: &Int, y: &Int| -> Option<Int> {
+        if x.is_zero() || !rational::is_power_of_two(y) || x < &Int::ZERO {
+            return None;
+        }
+        let k = y.bit_len() - 1;
+        let tz = x.trailing_zeros().unwrap_or(0);
+        Some(if k > tz {
+            x.clone() << (k - tz)
+        } else {
+            x.clone()
+        })
+    };
+    if let Some(l) = pow2(a, b).or_else(|| pow2(b, a)) {
+        return l;
     }
     let g = Int::from(a.gcd(b));
     a / &g * b
@@ -196,6 +214,28 @@ mod tests {
 
     fn i(x: i64) -> Int {
         Int::from(x)
+    }
+
+    /// The least common multiple, powers of two by shifts included, against
+    /// `a·b / gcd(a, b)`.
+    #[test]
+    fn lcm_agrees_with_the_gcd_formula() {
+        use dashu_base::Gcd;
+        let values: Vec<Int> = [1i64, 2, 3, 4, 6, 8, 12, 96, 1 << 40, 3 << 40, 5, 7 * 1024]
+            .iter()
+            .map(|&x| i(x))
+            .chain([
+                Int::ONE << 200,
+                (Int::ONE << 150) * i(3),
+                (Int::ONE << 90) * i(7) + i(1),
+            ])
+            .collect();
+        for a in &values {
+            for b in &values {
+                let want = a * b / Int::from(a.gcd(b));
+                assert_eq!(lcm(a, b), want, "lcm({a}, {b})");
+            }
+        }
     }
 
     #[test]

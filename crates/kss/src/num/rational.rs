@@ -7,7 +7,7 @@
 use std::cmp::Ordering;
 use std::fmt;
 
-use dashu_base::{BitTest, Gcd, PowerOfTwo};
+use dashu_base::{BitTest, Gcd};
 
 use super::{Int, Interval, Sign};
 
@@ -64,7 +64,7 @@ impl Rational {
         }
         // a power-of-two denominator (dyadic values: inputs, and positions
         // at dyadic times) is reduced by shifts, without a gcd
-        if den.unsigned_abs_ref().is_power_of_two() {
+        if is_power_of_two(&den) {
             let tz = num.trailing_zeros().unwrap_or(0);
             let dz = den.trailing_zeros().unwrap_or(0);
             let k = tz.min(dz);
@@ -133,8 +133,7 @@ impl Rational {
 
     /// Whether the denominator is a power of two.
     pub fn is_dyadic(&self) -> bool {
-        let d = self.den.unsigned_abs_ref();
-        d.is_power_of_two()
+        is_power_of_two(&self.den)
     }
 
     /// The sign.
@@ -233,8 +232,7 @@ impl Rational {
         if self.num.is_zero() {
             return 0.0;
         }
-        let nb = self.num.unsigned_abs_ref().bit_len();
-        let db = self.den.unsigned_abs_ref().bit_len();
+        let (nb, db) = (self.num.bit_len(), self.den.bit_len());
         if nb <= 53 && db <= 53 {
             // both exact as doubles: one IEEE division rounds correctly
             return self.num.to_f64().value() / self.den.to_f64().value();
@@ -249,10 +247,14 @@ impl Rational {
         if self.num.is_zero() {
             return 0.0;
         }
-        let nb = self.num.unsigned_abs_ref().bit_len() as i64;
-        let db = self.den.unsigned_abs_ref().bit_len() as i64;
+        let nb = self.num.bit_len() as i64;
+        let db = self.den.bit_len() as i64;
         let s = 66 - (nb - db);
-        let n = Int::from(self.num.unsigned_abs_ref().clone());
+        let n = if self.num < Int::ZERO {
+            -self.num.clone()
+        } else {
+            self.num.clone()
+        };
         let (num, den) = if s >= 0 {
             (n << s as usize, self.den.clone())
         } else {
@@ -316,15 +318,11 @@ pub fn decompose_f64(x: f64) -> Option<(Int, i64)> {
     Some((if sign == 1 { -m } else { m }, e))
 }
 
-trait UnsignedAbsRef {
-    fn unsigned_abs_ref(&self) -> dashu_int::UBig;
-}
-
-impl UnsignedAbsRef for Int {
-    fn unsigned_abs_ref(&self) -> dashu_int::UBig {
-        use dashu_base::UnsignedAbs;
-        self.clone().unsigned_abs()
-    }
+/// Whether `|x|` is a power of two (without copying `x`: the magnitude's
+/// bit length and trailing zeros).
+pub(crate) fn is_power_of_two(x: &Int) -> bool {
+    let n = x.bit_len();
+    n > 0 && x.trailing_zeros() == Some(n - 1)
 }
 
 impl PartialOrd for Rational {
