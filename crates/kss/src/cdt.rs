@@ -332,10 +332,13 @@ fn insertion_order(n: usize, p: &impl Predicates) -> Vec<usize> {
     // overflowing span becomes cell 0, which only costs speed)
     let cell =
         |x: f64, c: usize| ((x - lo[c]) / (hi[c] - lo[c]) * 65535.0).clamp(0.0, 65535.0) as u32;
-    let key = |i: usize| hints[i].map_or(u64::MAX, |h| hilbert(cell(h[0], 0), cell(h[1], 1)));
+    let keys: Vec<u64> = hints
+        .iter()
+        .map(|h| h.map_or(u64::MAX, |h| hilbert(cell(h[0], 0), cell(h[1], 1))))
+        .collect();
     let (mut start, mut end) = (0, n.min(64));
     loop {
-        order[start..end].sort_by_key(|&i| key(i));
+        order[start..end].sort_by_key(|&i| keys[i]);
         if end == n {
             break;
         }
