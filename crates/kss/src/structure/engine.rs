@@ -852,12 +852,15 @@ impl Kinetic {
         // read, would not notice: such a corridor is normalized again.
         // (whether the f64 filter leaves each one's turn at `now` undecided:
         // asked once here for both uses below)
+        // (only for the certificates that still exist: the points of one
+        // dropped meanwhile may no longer be vertices)
         let undecided: Vec<bool> = touched
             .iter()
             .map(|p| {
-                world
-                    .orient_filtered(p[0], p[1], p[2], now.interval())
-                    .is_none()
+                self.certs.contains_key(p)
+                    && world
+                        .orient_filtered(p[0], p[1], p[2], now.interval())
+                        .is_none()
             })
             .collect();
         let reshape = self.straight_now(world, &touched, &undecided, now);
