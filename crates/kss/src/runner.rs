@@ -18,7 +18,7 @@ use crate::world::World;
 /// approximations have nearly as many lines as they have edges, so the
 /// hierarchy saves them few events, and each refinement (a pop) costs more
 /// than the events it saves: on dense swarms of 16-, 24- and 32-gons the
-/// plain structure takes 20–40 % less time than the hierarchy on all of
+/// plain structure takes 30–40 % less time than the hierarchy on all of
 /// them (`docs/design/hierarchy.md`, "Which polygons are approximated").
 pub const DEFAULT_APPROXIMATE_ABOVE: usize = 32;
 
