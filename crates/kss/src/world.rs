@@ -167,8 +167,9 @@ impl Body {
 struct Change {
     body: BodyId,
     velocity: Point,
-    /// `true` for the end of a bridge, `false` for a scenario change.
-    anchor: bool,
+    /// For the end of a bridge, the body's position there (the bridge's
+    /// dyadic end point); `None` for a scenario change.
+    anchor: Option<Point>,
 }
 
 /// Where two touching bodies touch.
@@ -342,7 +343,7 @@ impl World {
                         Change {
                             body: BodyId(body as u32),
                             velocity,
-                            anchor: false,
+                            anchor: None,
                         },
                     );
                     seq += 1;
@@ -527,12 +528,14 @@ impl World {
             if !body.alive {
                 continue;
             }
-            if c.anchor {
+            if let Some(q) = &c.anchor {
                 if body.anchor.as_ref().map(|a| a.1) != Some(seq) {
                     continue; // superseded by a later bounce
                 }
                 body.anchor = None;
-                let traj = body.traj.with_velocity_from(&tr, c.velocity);
+                // (the bridge, unchanged since it was set, ends at `q`)
+                debug_assert_eq!(body.traj.position_at(&tr), *q);
+                let traj = Trajectory::through(&tr, q, c.velocity);
                 body.set_traj(traj);
             } else {
                 let v = c.velocity;
@@ -569,7 +572,7 @@ impl World {
         let plan: Vec<(Time, u64)> = self
             .changes
             .iter()
-            .filter(|(_, c)| !c.anchor)
+            .filter(|(_, c)| c.anchor.is_none())
             .map(|(k, _)| k.clone())
             .collect();
         plan.into_iter()
@@ -677,7 +680,7 @@ impl World {
             Change {
                 body: id,
                 velocity: v,
-                anchor: true,
+                anchor: Some(q),
             },
         );
     }
