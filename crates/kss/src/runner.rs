@@ -14,12 +14,13 @@ use crate::structure::geo::{Geo, Shapes};
 use crate::world::World;
 
 /// The default of [`RunOptions::approximate_above`]: the hierarchy sees
-/// polygons of at most 32 vertices as they are. Their coarsest outer
-/// approximations have nearly as many lines as they have edges, so the
-/// hierarchy saves them few events, and each refinement (a pop) costs more
-/// than the events it saves: on dense swarms of 16-, 24- and 32-gons the
-/// plain structure takes 30–40 % less time than the hierarchy on all of
-/// them (`docs/design/hierarchy.md`, "Which polygons are approximated").
+/// polygons of at most 32 vertices as they are. Without a hierarchy a pass
+/// of two of them costs at most a few dozen events, and the refinements
+/// (pops) that approximations need where polygons come close cost more than
+/// the events they save: on dense swarms of 16-, 24- and 32-gons the
+/// plain structure takes 30–40 % less time than the hierarchy
+/// approximating every polygon (`docs/design/hierarchy.md`, "Which
+/// polygons are approximated").
 pub const DEFAULT_APPROXIMATE_ABOVE: usize = 32;
 
 /// Options of a run.
