@@ -24,7 +24,10 @@ macro_rules! trace {
 /// Which kinetic structure computes the collisions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum StructureKind {
-    /// The separation-sensitive hierarchical structure (the default).
+    /// The separation-sensitive hierarchical structure (the default): the
+    /// kinetic separation structure on outer approximations of the polygons
+    /// of more than [`crate::RunOptions::approximate_above`] vertices, the
+    /// others as they are.
     #[default]
     Hierarchical,
     /// The kinetic separation structure without the hierarchy.

@@ -416,7 +416,7 @@ impl MidRad {
     /// finite. Every rounding of the computation is bounded into the radius:
     /// the midpoints' own, the products' and sums', and the radius's (a
     /// factor `1 + 16ε` on a sum of non-negative terms, each computed with
-    /// at most four roundings, and [`TINY`] for underflow).
+    /// at most four roundings, and `TINY` for underflow).
     #[inline]
     pub fn at(lin: [Interval; 4], t: Interval) -> Option<MidRad> {
         let tm = 0.5 * (t.lo + t.hi);
@@ -447,7 +447,7 @@ impl MidRad {
 /// `|d1x|·u2y + u1x·|d2y| + u1x·u2y + |d1y|·u2x + u1y·|d2x| + u1y·u2x` of
 /// `d1x·d2y − d1y·d2x`, whose f64 evaluation adds at most
 /// `3ε(|d1x·d2y| + |d1y·d2x|)`; the bound itself is computed with a
-/// factor `1 + 32ε` and [`TINY`] for underflow.
+/// factor `1 + 32ε` and `TINY` for underflow.
 #[inline]
 pub fn orient_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
     let (d1x, d1y) = (v.x - u.x, v.y - u.y);
@@ -550,7 +550,7 @@ impl Bounded {
 /// any four points within the radii, if the f64 evaluation with its
 /// running error bound decides it and it is not zero. The bound is taken
 /// with a factor `1 + 64ε` (the rounding of the bound's own computation,
-/// a few dozen operations deep) and [`TINY`] for underflow.
+/// a few dozen operations deep) and `TINY` for underflow.
 pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<Sign> {
     let rel = |p: MidRad| {
         let x = Bounded::diff(p.x, d.x, p.r + d.r);

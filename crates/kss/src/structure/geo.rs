@@ -264,7 +264,7 @@ type FacesEntry = Option<(FacesKey, Time, bool)>;
 /// and exposed version), its ends, chain lengths and middle bridge, the
 /// side and the instant, which an entry holds in full: the key's words,
 /// and the instant itself, which must be known to be the same
-/// ([`Time::is_known_same`]: the same exact value or the same deferred
+/// (`Time::is_known_same`: the same exact value or the same deferred
 /// root, never forced), since two instants can share an enclosure. One
 /// per [`Shapes`]; a clone starts empty.
 pub struct FacesCache(std::cell::RefCell<Vec<FacesEntry>>);
