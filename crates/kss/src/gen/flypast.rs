@@ -266,26 +266,8 @@ struct Dy {
 
 impl Dy {
     fn from_f64(x: f64) -> Dy {
-        assert!(x.is_finite(), "exact arithmetic on a non-finite number");
-        if x == 0.0 {
-            return Dy {
-                m: IBig::ZERO,
-                e: 0,
-            };
-        }
-        let bits = x.to_bits();
-        let exp = ((bits >> 52) & 0x7ff) as i32;
-        let frac = bits & ((1u64 << 52) - 1);
-        let (mant, e) = if exp == 0 {
-            (frac, -1074)
-        } else {
-            (frac | (1u64 << 52), exp - 1075)
-        };
-        let m = IBig::from(mant);
-        Dy {
-            m: if bits >> 63 == 1 { -m } else { m },
-            e,
-        }
+        let (m, e) = crate::num::decompose_f64(x).expect("exact arithmetic on a non-finite number");
+        Dy { m, e: e as i32 }
     }
 
     fn add(&self, o: &Dy) -> Dy {
