@@ -20,7 +20,7 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
-use crate::geom::{for_each_minkowski_edge, Point};
+use crate::geom::Point;
 use crate::num::{lcm, Int, Interval, Rational, Sign, Time};
 use crate::world::{BodyId, World};
 
@@ -127,10 +127,8 @@ fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
     }
     let sc = |r: &Rational| r.numer() * (&den / r.denom());
     let (mut dx, mut dy, mut wx, mut wy) = (sc(&d0.x), sc(&d0.y), sc(&w.x), sc(&w.y));
-    let mut edges = Vec::new();
-    let exp = for_each_minkowski_edge(&world.body(a).shape, &world.body(b).shape, |e| {
-        edges.push(e)
-    });
+    let (edges, exp) =
+        crate::geom::minkowski_edges_filtered(&world.body(a).shape, &world.body(b).shape);
     // n·d(t) <= h·2^exp  ⇔  n·(D0 + W t) <= h·den·2^exp (all scaled to integers)
     let rhs_scale = if exp >= 0 {
         &den << exp as usize
@@ -155,15 +153,15 @@ fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
     let mut ratios: Vec<(usize, Sign, Interval)> = Vec::new();
     let mut parallel_strict = true;
     for (k, e) in edges.iter().enumerate() {
-        let (nx, ny) = (iv(&e.nx), iv(&e.ny));
+        let [nx, ny, h] = e.iv;
         let a = nx * wxi + ny * wyi;
-        let b = iv(&e.h) * rsi - (nx * dxi + ny * dyi);
+        let b = h * rsi - (nx * dxi + ny * dyi);
         let sa = if a.lo > 0.0 {
             Sign::Positive
         } else if a.hi < 0.0 {
             Sign::Negative
         } else {
-            Sign::of(&exact_alpha(e))
+            Sign::of(&exact_alpha(&e.edge()))
         };
         match sa {
             Sign::Zero => {
@@ -172,7 +170,7 @@ fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
                 } else if b.hi < 0.0 {
                     Sign::Negative
                 } else {
-                    Sign::of(&exact_beta(e))
+                    Sign::of(&exact_beta(&e.edge()))
                 };
                 match sb {
                     Sign::Negative => return ContactInterval::Never,
@@ -191,7 +189,8 @@ fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
         if sign == Sign::Negative {
             let bound = of_sign().map(|r| r.2.lo).fold(f64::NEG_INFINITY, f64::max);
             for &(k, _, _) in of_sign().filter(|r| r.2.hi >= bound) {
-                let f = (-exact_beta(&edges[k]), -exact_alpha(&edges[k]));
+                let e = edges[k].edge();
+                let f = (-exact_beta(&e), -exact_alpha(&e));
                 if best.as_ref().is_none_or(|g| frac_cmp(&f, g).is_gt()) {
                     best = Some(f);
                 }
@@ -199,7 +198,8 @@ fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
         } else {
             let bound = of_sign().map(|r| r.2.hi).fold(f64::INFINITY, f64::min);
             for &(k, _, _) in of_sign().filter(|r| r.2.lo <= bound) {
-                let f = (exact_beta(&edges[k]), exact_alpha(&edges[k]));
+                let e = edges[k].edge();
+                let f = (exact_beta(&e), exact_alpha(&e));
                 if best.as_ref().is_none_or(|g| frac_cmp(&f, g).is_lt()) {
                     best = Some(f);
                 }

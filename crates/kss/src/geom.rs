@@ -96,6 +96,9 @@ pub struct BodyPolygon {
     /// The largest bit length of the integer coordinates (below 63: the
     /// Minkowski passes run on `i128`, without allocation).
     bits: u32,
+    /// The integer coordinates as `i128` when `bits` is at most 100 (the
+    /// input of those passes).
+    small: Option<Vec<[i128; 2]>>,
 }
 
 /// What is wrong with a vertex list (see [`BodyPolygon::new`]).
@@ -170,6 +173,12 @@ impl BodyPolygon {
             .map(|c| dashu_base::BitTest::bit_len(c) as u32)
             .max()
             .unwrap_or(0);
+        let small = (bits <= 100).then(|| {
+            xs.iter()
+                .zip(&ys)
+                .map(|(x, y)| [x, y].map(|c| i128::try_from(c).expect("below 2^100")))
+                .collect()
+        });
         let poly = BodyPolygon {
             xs,
             ys,
@@ -178,6 +187,7 @@ impl BodyPolygon {
             ivs,
             bbox,
             bits,
+            small,
         };
         poly.check_convex()?;
         Ok(poly)
@@ -395,11 +405,11 @@ pub struct MidRad {
 }
 
 /// The unit roundoff of f64, `2^-53`.
-const EPS: f64 = f64::EPSILON / 2.0;
+pub(crate) const EPS: f64 = f64::EPSILON / 2.0;
 
 /// An absolute term that covers the rounding of products that underflow
 /// (each at most `2^-1074`; a few dozen operations).
-const TINY: f64 = 1e-300;
+pub(crate) const TINY: f64 = 1e-300;
 
 impl MidRad {
     /// Whether the two points are certainly apart: their midpoints differ
@@ -433,6 +443,34 @@ impl MidRad {
         let (y, ry) = coord(lin[2], lin[3]);
         let r = rx.max(ry) * (1.0 + 16.0 * EPS) + TINY;
         (x.is_finite() && y.is_finite() && r.is_finite()).then_some(MidRad { x, y, r })
+    }
+}
+
+/// An instant's enclosure in the form [`MidRad::at`] and
+/// [`crate::motion::Frame::mid_rad_of_vertex`] read it: midpoint `tm`,
+/// half-width `ht` (rounded up) and largest magnitude `tmax`.
+#[derive(Clone, Copy, Debug)]
+pub struct TimeMidRad {
+    /// Midpoint.
+    pub tm: f64,
+    /// Half-width, rounded up.
+    pub ht: f64,
+    /// `max(|lo|, |hi|)`.
+    pub tmax: f64,
+}
+
+impl TimeMidRad {
+    /// The form of enclosure `t`.
+    #[inline]
+    pub fn of(t: Interval) -> TimeMidRad {
+        let tm = 0.5 * t.lo + 0.5 * t.hi;
+        // (a difference of doubles is within ε of its rounding, relatively;
+        // the product adds another ε)
+        TimeMidRad {
+            tm,
+            ht: (t.hi - tm).max(tm - t.lo) * (1.0 + 4.0 * EPS),
+            tmax: t.lo.abs().max(t.hi.abs()),
+        }
     }
 }
 
@@ -729,10 +767,13 @@ mod tests {
         );
     }
 
-    /// The Minkowski pass on `i128` (coordinates below `2^62`) gives the
-    /// same edges in the same order as the one on big integers, for
-    /// polygons of one scale and of very different scales (shifted
-    /// coordinates), regular and irregular, with parallel edges.
+    /// The Minkowski pass on `i128` (shifted coordinates below `2^124`)
+    /// gives the same edges in the same order as the one on big integers,
+    /// for polygons of one scale and of very different scales (shifted
+    /// coordinates), regular and irregular, with parallel edges, with
+    /// coordinates of up to 100 bits (cross products past `i128`) and past
+    /// it (the big-integer pass); the filtered edges are the same edges,
+    /// their enclosures hold the exact integers.
     #[test]
     fn minkowski_edges_on_i128_are_the_big_integer_ones() {
         let regular = |n: usize, r: f64, phase: f64, c: [f64; 2]| -> Vec<[f64; 2]> {
@@ -750,8 +791,11 @@ mod tests {
             regular(7, 0.001, 1.1, [5.0, -3.0]),
             regular(64, 3.0, 0.01, [-1.0, 2.0]),
             vec![[0.0, 0.0], [1.0, 0.0], [1.5, 0.5], [1.0, 1.0], [0.0, 1.0]],
+            // coordinates of about 90 bits, and of more than 100
+            vec![[1e-12, 0.0], [1.0, 1e-9], [0.5, 0.75 + 1e-11]],
+            vec![[-1e-25, 0.0], [1.0, 1e-20], [0.5, 0.75]],
         ];
-        let mut fast = 0;
+        let (mut fast, mut wide, mut big) = (0, 0, 0);
         for x in &shapes {
             for y in &shapes {
                 let (a, b) = (BodyPolygon::new(x).unwrap(), BodyPolygon::new(y).unwrap());
@@ -767,12 +811,35 @@ mod tests {
                 );
                 assert_eq!(exp, e0);
                 assert_eq!(got, want);
-                if a.bits as i64 + a.exp - e0 <= 62 && b.bits as i64 + b.exp - e0 <= 62 {
+                let (filtered, fexp) = minkowski_edges_filtered(&a, &b);
+                assert_eq!(fexp, e0);
+                assert_eq!(
+                    filtered.iter().map(FilteredEdge::edge).collect::<Vec<_>>(),
+                    want
+                );
+                for f in &filtered {
+                    let e = f.edge();
+                    for (iv, x) in f.iv.iter().zip([&e.nx, &e.ny, &e.h]) {
+                        let r = Rational::from_int(x.clone());
+                        let lo = Rational::from_f64(iv.lo).expect("finite");
+                        let hi = Rational::from_f64(iv.hi).expect("finite");
+                        assert!(lo <= r && r <= hi, "{iv:?} does not hold {x}");
+                    }
+                }
+                let shifted = |p: &BodyPolygon| p.bits as i64 + p.exp - e0;
+                if a.small.is_some() && b.small.is_some() && shifted(&a).max(shifted(&b)) <= 124 {
                     fast += 1;
+                    if a.bits.max(b.bits) > 62 {
+                        wide += 1;
+                    }
+                } else {
+                    big += 1;
                 }
             }
         }
-        assert!(fast >= 10, "the i128 path ran on only {fast} pairs");
+        assert!(fast >= 30, "the i128 path ran on only {fast} pairs");
+        assert!(wide >= 10, "only {wide} pairs had coordinates past 62 bits");
+        assert!(big >= 5, "the big-integer path ran on only {big} pairs");
     }
 
     /// The filtered orientation agrees with the exact formula, on exactly
@@ -905,25 +972,195 @@ pub fn for_each_minkowski_edge(
     let exp = a.exp.min(b.exp);
     let sa = (a.exp - exp) as usize;
     let sb = (b.exp - exp) as usize;
-    if a.bits as usize + sa <= 62 && b.bits as usize + sb <= 62 {
-        let small = |p: &BodyPolygon| -> Vec<[i64; 2]> {
-            let to = |c: &Int| i64::try_from(c).expect("below 2^62");
-            p.xs.iter()
-                .zip(&p.ys)
-                .map(|(x, y)| [to(x), to(y)])
-                .collect()
-        };
-        let (va, vb) = (small(a), small(b));
-        minkowski_walk(
-            (va.len(), vb.len()),
-            |i| (i128::from(va[i][0]) << sa, i128::from(va[i][1]) << sa),
-            |j| (i128::from(vb[j][0]) << sb, i128::from(vb[j][1]) << sb),
-            &mut visit,
-        );
+    if minkowski_walk_i128(a, b, (sa, sb), &mut |e: SmallEdge, source, other| {
+        let [nx, ny, h] = e.exact();
+        visit(MinkowskiEdge {
+            nx,
+            ny,
+            h,
+            source,
+            other,
+        })
+    }) {
         return exp;
     }
     minkowski_edges_big(a, b, (sa, sb), &mut visit);
     exp
+}
+
+/// An edge of `M` from the `i128` walk: its normal `(nx, ny)` and the
+/// vertex `v` of `M` it starts at, in the common integer units (each
+/// below `2^126` in magnitude); `h = n · v` may exceed `i128`.
+#[derive(Clone, Copy, Debug)]
+struct SmallEdge {
+    n: [i128; 2],
+    v: [i128; 2],
+}
+
+impl SmallEdge {
+    /// `nx`, `ny` and `h` exactly.
+    fn exact(&self) -> [Int; 3] {
+        let [nx, ny] = self.n.map(Int::from);
+        let [vx, vy] = self.v.map(Int::from);
+        let h = &nx * &vx + &ny * &vy;
+        [nx, ny, h]
+    }
+
+    /// Enclosures of `nx`, `ny` and `h` (`h` exact in `i128` where it fits).
+    fn enclosures(&self) -> [Interval; 3] {
+        let [nx, ny] = self.n;
+        let [vx, vy] = self.v;
+        let [inx, iny] = [nx, ny].map(Interval::of_i128);
+        let h = nx
+            .checked_mul(vx)
+            .zip(ny.checked_mul(vy))
+            .and_then(|(p, q)| p.checked_add(q));
+        let ih = match h {
+            Some(h) => Interval::of_i128(h),
+            None => inx * Interval::of_i128(vx) + iny * Interval::of_i128(vy),
+        };
+        [inx, iny, ih]
+    }
+}
+
+/// The walk of [`minkowski_walk`] on `i128`, where each polygon's integer
+/// coordinates shifted to the common units (by `sa` for A, `sb` for B)
+/// stay below `2^124`: edge vectors and `M`'s vertices below `2^125`. The
+/// order of the edges is decided on each polygon's own (unshifted) edge
+/// vectors ([`angle_cmp_i128`]): a positive scale changes no angle, so the
+/// edges come in the same order as on big integers. Returns `false`
+/// (visiting nothing) where the coordinates do not fit.
+fn minkowski_walk_i128(
+    a: &BodyPolygon,
+    b: &BodyPolygon,
+    (sa, sb): (usize, usize),
+    visit: &mut impl FnMut(SmallEdge, Result<usize, usize>, usize),
+) -> bool {
+    let (Some(va), Some(vb)) = (a.small.as_deref(), b.small.as_deref()) else {
+        return false;
+    };
+    if a.bits as usize + sa > 124 || b.bits as usize + sb > 124 {
+        return false;
+    }
+    let (n, m) = (va.len(), vb.len());
+    // unshifted edge vectors: B's edges and the reversed edges of A
+    let edge_b = |j: usize| {
+        let ([x0, y0], [x1, y1]) = (vb[j], vb[(j + 1) % m]);
+        (x1 - x0, y1 - y0)
+    };
+    let edge_na = |i: usize| {
+        let ([x0, y0], [x1, y1]) = (va[i], va[(i + 1) % n]);
+        (x0 - x1, y0 - y1)
+    };
+    let j0 = (0..m)
+        .min_by(|&x, &y| angle_cmp_i128(edge_b(x), edge_b(y)))
+        .expect("non-empty");
+    let i0 = (0..n)
+        .min_by(|&x, &y| angle_cmp_i128(edge_na(x), edge_na(y)))
+        .expect("non-empty");
+    let (mut ib, mut ia) = (0usize, 0usize);
+    while ib < m || ia < n {
+        let j = (j0 + ib) % m;
+        let i = (i0 + ia) % n;
+        let take_b = if ib == m {
+            false
+        } else if ia == n {
+            true
+        } else {
+            angle_cmp_i128(edge_b(j), edge_na(i)) != std::cmp::Ordering::Greater
+        };
+        // current vertex of M: b_j − a_i, in the common units
+        let [bx, by] = vb[j].map(|c| c << sb);
+        let [ax, ay] = va[i].map(|c| c << sa);
+        let (ex, ey) = if take_b {
+            let (x, y) = edge_b(j);
+            (x << sb, y << sb)
+        } else {
+            let (x, y) = edge_na(i);
+            (x << sa, y << sa)
+        };
+        visit(
+            SmallEdge {
+                n: [ey, -ex],
+                v: [bx - ax, by - ay],
+            },
+            if take_b { Ok(j) } else { Err(i) },
+            if take_b { i } else { j },
+        );
+        if take_b {
+            ib += 1;
+        } else {
+            ia += 1;
+        }
+    }
+    true
+}
+
+/// An edge of `M = B ⊕ (−A)` with enclosures of its integers (the f64
+/// filter of the tests against it); its exact integers
+/// ([`FilteredEdge::edge`]) are built only for the edges the filter
+/// leaves undecided.
+#[derive(Clone, Debug)]
+pub(crate) struct FilteredEdge {
+    /// Enclosures of `nx`, `ny` and `h`.
+    pub iv: [Interval; 3],
+    exact: EdgeInts,
+}
+
+/// The exact integers of a [`FilteredEdge`].
+#[derive(Clone, Debug)]
+enum EdgeInts {
+    /// The edge from the `i128` walk, with its source and other vertex.
+    Small(SmallEdge, Result<usize, usize>, usize),
+    /// The edge on big integers.
+    Big(MinkowskiEdge),
+}
+
+impl FilteredEdge {
+    /// The exact edge.
+    pub(crate) fn edge(&self) -> MinkowskiEdge {
+        match &self.exact {
+            EdgeInts::Small(e, source, other) => {
+                let [nx, ny, h] = e.exact();
+                MinkowskiEdge {
+                    nx,
+                    ny,
+                    h,
+                    source: *source,
+                    other: *other,
+                }
+            }
+            EdgeInts::Big(e) => e.clone(),
+        }
+    }
+}
+
+/// The edges of [`for_each_minkowski_edge`] in the same order, each with
+/// enclosures of its integers, and the common exponent. Where the
+/// coordinates fit the `i128` path no big integer is built.
+pub(crate) fn minkowski_edges_filtered(
+    a: &BodyPolygon,
+    b: &BodyPolygon,
+) -> (Vec<FilteredEdge>, i64) {
+    let exp = a.exp.min(b.exp);
+    let sa = (a.exp - exp) as usize;
+    let sb = (b.exp - exp) as usize;
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    if minkowski_walk_i128(a, b, (sa, sb), &mut |e: SmallEdge, source, other| {
+        out.push(FilteredEdge {
+            iv: e.enclosures(),
+            exact: EdgeInts::Small(e, source, other),
+        })
+    }) {
+        return (out, exp);
+    }
+    minkowski_edges_big(a, b, (sa, sb), &mut |e| {
+        out.push(FilteredEdge {
+            iv: [&e.nx, &e.ny, &e.h].map(Interval::of_int),
+            exact: EdgeInts::Big(e),
+        })
+    });
+    (out, exp)
 }
 
 /// [`for_each_minkowski_edge`] on big integers (`A`'s coordinates shifted
@@ -938,22 +1175,29 @@ fn minkowski_edges_big(
         (a.len(), b.len()),
         |i| (&a.xs[i] << sa, &a.ys[i] << sa),
         |j| (&b.xs[j] << sb, &b.ys[j] << sb),
-        visit,
+        &mut |[nx, ny, h]: [Int; 3], source, other| {
+            visit(MinkowskiEdge {
+                nx,
+                ny,
+                h,
+                source,
+                other,
+            })
+        },
     );
 }
 
 /// The merge of [`for_each_minkowski_edge`] over the `n` vertices of `A`
-/// (`av`) and the `m` of `B` (`bv`), in integer units, on any exact integer
-/// type: big integers, or `i128` where the coordinates are below `2^62`
-/// (edge vectors below `2^63`, products below `2^126`), with the same
-/// edges in the same order.
+/// (`av`) and the `m` of `B` (`bv`), in integer units, on big integers
+/// (where the coordinates do not fit [`minkowski_walk_i128`], which gives
+/// the same edges in the same order).
 fn minkowski_walk<T>(
     (n, m): (usize, usize),
     av: impl Fn(usize) -> (T, T),
     bv: impl Fn(usize) -> (T, T),
-    visit: &mut impl FnMut(MinkowskiEdge),
+    visit: &mut impl FnMut([T; 3], Result<usize, usize>, usize),
 ) where
-    T: Ord + Default + Into<Int>,
+    T: Ord + Default,
     for<'x> &'x T: std::ops::Sub<&'x T, Output = T>
         + std::ops::Add<&'x T, Output = T>
         + std::ops::Mul<&'x T, Output = T>
@@ -994,18 +1238,30 @@ fn minkowski_walk<T>(
         let (ex, ey) = if take_b { edge_b(j) } else { edge_na(i) };
         let (nx, ny) = (ey, -&ex);
         let h = &(&nx * &vx) + &(&ny * &vy);
-        visit(MinkowskiEdge {
-            nx: nx.into(),
-            ny: ny.into(),
-            h: h.into(),
-            source: if take_b { Ok(j) } else { Err(i) },
-            other: if take_b { i } else { j },
-        });
+        visit(
+            [nx, ny, h],
+            if take_b { Ok(j) } else { Err(i) },
+            if take_b { i } else { j },
+        );
         if take_b {
             ib += 1;
         } else {
             ia += 1;
         }
+    }
+}
+
+/// [`angle_cmp`] on `i128` vectors (components below `2^101`): the cross
+/// products on `i128` where they fit, on big integers where not.
+fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
+    let half = |d: (i128, i128)| u8::from(!(d.1 > 0 || (d.1 == 0 && d.0 > 0)));
+    let (hu, hv) = (half(u), half(v));
+    if hu != hv {
+        return hu.cmp(&hv);
+    }
+    match (u.1.checked_mul(v.0), u.0.checked_mul(v.1)) {
+        (Some(p), Some(q)) => p.cmp(&q),
+        _ => (Int::from(u.1) * Int::from(v.0)).cmp(&(Int::from(u.0) * Int::from(v.1))),
     }
 }
 
@@ -1055,10 +1311,11 @@ impl EdgeSideFilter {
     /// `Greater` or `Less` when the enclosures show `n · d` strictly above
     /// or below `h · 2^exp` for edge `e`; `None` when they cannot tell (an
     /// exponent out of the doubles' range, or enclosures that overlap).
-    pub(crate) fn of(&self, e: &MinkowskiEdge) -> Option<std::cmp::Ordering> {
+    pub(crate) fn of(&self, e: &FilteredEdge) -> Option<std::cmp::Ordering> {
         let unit = self.unit?;
-        let lhs = self.dx * Interval::of_int(&e.nx) + self.dy * Interval::of_int(&e.ny);
-        let rhs = Interval::of_int(&e.h) * unit;
+        let [nx, ny, h] = e.iv;
+        let lhs = self.dx * nx + self.dy * ny;
+        let rhs = h * unit;
         if lhs.lo > rhs.hi {
             Some(std::cmp::Ordering::Greater)
         } else if lhs.hi < rhs.lo {
@@ -1073,25 +1330,18 @@ impl EdgeSideFilter {
 /// sets), exactly, in `O(n + m)`.
 pub fn placed_polygons_intersect(a: &BodyPolygon, pa: &Point, b: &BodyPolygon, pb: &Point) -> bool {
     let d = pa.sub(pb);
-    let exp = a.exp.min(b.exp);
     // each edge's test `n · d <= h · 2^exp` on enclosures first: a
     // separating edge ends the walk, an edge that certainly holds is done,
     // and only the others are tested exactly
+    let (edges, exp) = minkowski_edges_filtered(a, b);
     let side = EdgeSideFilter::new(&d, exp);
-    let mut apart = false;
     let mut undecided: Vec<MinkowskiEdge> = Vec::new();
-    for_each_minkowski_edge(a, b, |e| {
-        if apart {
-            return;
-        }
-        match side.of(&e) {
-            Some(std::cmp::Ordering::Greater) => apart = true,
+    for e in &edges {
+        match side.of(e) {
+            Some(std::cmp::Ordering::Greater) => return false,
             Some(_) => {}
-            None => undecided.push(e),
+            None => undecided.push(e.edge()),
         }
-    });
-    if apart {
-        return false;
     }
     let unit = Rational::from_dyadic(Int::ONE, exp);
     undecided.into_iter().all(|e| {

@@ -70,6 +70,9 @@ pub struct Frame {
     /// Enclosures of `ox/w, oy/w, vx/w, vy/w, m/w` (the f64 filter's view;
     /// a velocity component that is exactly zero is the point `[0, 0]`).
     iv: [Interval; 5],
+    /// The origin and velocity enclosures of `iv` in midpoint–radius form,
+    /// per coordinate `[mo, ro, mv, rv]` ([`Frame::mid_rad_of_vertex`]).
+    mr: [[f64; 4]; 2],
     /// A number no other frame made in this process has (a clone keeps
     /// it: its values are the same): the key of cached enclosures.
     uid: u64,
@@ -111,6 +114,13 @@ impl Frame {
                 Interval::of_int(x) / wi
             }
         });
+        // (a midpoint and a radius that reaches both ends, rounded up)
+        let mid_rad = |c: Interval| {
+            let m = 0.5 * c.lo + 0.5 * c.hi;
+            [m, (c.hi - m).max(m - c.lo).next_up()]
+        };
+        let [[mox, rox], [moy, roy], [mvx, rvx], [mvy, rvy]] =
+            [iv[0], iv[1], iv[2], iv[3]].map(mid_rad);
         Frame {
             ox,
             oy,
@@ -119,6 +129,7 @@ impl Frame {
             m,
             w,
             iv,
+            mr: [[mox, rox, mvx, rvx], [moy, roy, mvy, rvy]],
             uid: NEXT_FRAME_UID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         }
     }
@@ -156,6 +167,41 @@ impl Frame {
     pub fn linear_enclosure_of_vertex(&self, [x, y]: [f64; 2]) -> [Interval; 4] {
         let [ox, oy, vx, vy, _] = self.iv;
         [ox + Interval::point(x), vx, oy + Interval::point(y), vy]
+    }
+
+    /// The position at a time in `t` of the body polygon vertex given by its
+    /// input doubles `(x, y)` (as in [`Frame::linear_enclosure_of_vertex`]),
+    /// in midpoint–radius form, from the frame's own midpoint–radius terms:
+    /// no interval sum per vertex. `None` if a value is not finite.
+    ///
+    /// Per coordinate the position is `o + x + v·T` with `o` within `ro` of
+    /// `mo`, `v` within `rv` of `mv` and `T` within `ht` of `tm`; the
+    /// midpoint `fl(fl(mo + x) + fl(mv·tm))` is within
+    /// `ro + rv·tmax + |mv|·ht` of it plus its three roundings, at most
+    /// `3ε(|mo + x| + |mv·tm|)`; the radius's own rounding is covered by a
+    /// factor `1 + 16ε` on its non-negative terms and `TINY` for underflow
+    /// (as in [`crate::geom::MidRad::at`]).
+    #[inline]
+    pub fn mid_rad_of_vertex(
+        &self,
+        [x, y]: [f64; 2],
+        t: crate::geom::TimeMidRad,
+    ) -> Option<crate::geom::MidRad> {
+        use crate::geom::{EPS, TINY};
+        let coord = |[mo, ro, mv, rv]: [f64; 4], c: f64| {
+            let s1 = mo + c;
+            let s2 = mv * t.tm;
+            let r = ro + rv * t.tmax + mv.abs() * t.ht + 3.0 * EPS * (s1.abs() + s2.abs());
+            (s1 + s2, r)
+        };
+        let (px, rx) = coord(self.mr[0], x);
+        let (py, ry) = coord(self.mr[1], y);
+        let r = rx.max(ry) * (1.0 + 16.0 * EPS) + TINY;
+        (px.is_finite() && py.is_finite() && r.is_finite()).then_some(crate::geom::MidRad {
+            x: px,
+            y: py,
+            r,
+        })
     }
 
     /// The enclosures `[x1, y1]` of the velocity, the terms of every
@@ -343,6 +389,62 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The midpoint–radius position of a vertex from its input doubles
+    /// holds the exact position at both ends and the middle of the
+    /// enclosure of an instant with a large denominator (so that the
+    /// enclosure is not a point), for frames through non-dyadic instants
+    /// and polygons of several scales, slow and fast.
+    #[test]
+    fn vertex_mid_rad_holds_the_exact_position() {
+        let mut checked = 0;
+        for scale in [1.0, 3.0e-7, 1.5e9, 1e-300, 1e250] {
+            let poly = BodyPolygon::new(&[
+                [-0.3 * scale, -0.1 * scale],
+                [0.7 * scale, 0.05 * scale],
+                [0.1 * scale, 0.9 * scale],
+            ])
+            .unwrap();
+            let t0 = Rational::new(Int::from(7), Int::from(3));
+            for (p, v) in [
+                (pt(0.25, -1.5), pt(1.0 / 3.0, 0.2)),
+                (pt(1e6, 3.0), pt(-0.1, 1e-9)),
+                (pt(-2e-200, 5e-310), pt(3e40, -7.0)),
+            ] {
+                let traj = Trajectory::through(&t0, &p, v);
+                let frame = Frame::new(&traj, &poly);
+                for at in [
+                    Rational::new(Int::from(10), Int::from(7)),
+                    Rational::new(Int::from(-1_000_001), Int::from(3)),
+                    Rational::new(Int::from(1), Int::from(3) << 200),
+                ] {
+                    let tiv = at.interval();
+                    let tmr = crate::geom::TimeMidRad::of(tiv);
+                    // instants within the enclosure: its ends and `at`
+                    let instants = [r(tiv.lo), r(tiv.hi), at.clone()];
+                    for (i, &xy) in poly.f64_vertices().iter().enumerate() {
+                        let Some(m) = frame.mid_rad_of_vertex(xy, tmr) else {
+                            continue;
+                        };
+                        let lp = frame.vertex(&poly, i);
+                        checked += 1;
+                        for t in &instants {
+                            let q = lp.at(t);
+                            let (dx, dy) = (q.x.sub(&r(m.x)), q.y.sub(&r(m.y)));
+                            let rad = r(m.r);
+                            for d in [dx, dy] {
+                                assert!(
+                                    d <= rad && d.neg() <= rad,
+                                    "vertex {i} at scale {scale}, {p:?}: {m:?} misses {q:?} at {t:?}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked >= 60, "only {checked} positions were finite");
     }
 
     #[test]

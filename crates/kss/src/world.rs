@@ -26,7 +26,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use crate::geom::{for_each_minkowski_edge, BodyPolygon, Point, PolygonDefect};
+use crate::geom::{BodyPolygon, Point, PolygonDefect};
 use crate::motion::{Frame, LinearPoint, Trajectory};
 use crate::num::{Int, Interval, Rational, Sign, Time};
 use crate::scenario::{CollisionMode, PolygonSpec, Scenario, ScenarioError};
@@ -816,8 +816,7 @@ impl World {
         let mut active: Vec<(Int, Int)> = Vec::new();
         let mut features = Vec::new();
         let mut outside = false;
-        let mut edges = Vec::new();
-        let exp = for_each_minkowski_edge(&ba.shape, &bb.shape, |e| edges.push(e));
+        let (edges, exp) = crate::geom::minkowski_edges_filtered(&ba.shape, &bb.shape);
         // d · n against h · 2^exp in integers: both sides times the positive
         // xd · yd · 2^max(−exp, 0) (no rational arithmetic, no gcd per edge)
         let (xn, xd) = (d.x.numer(), d.x.denom());
@@ -831,8 +830,8 @@ impl World {
         // (on enclosures first: only the edges that `d` may lie on, the
         // active ones, are compared exactly)
         let side = crate::geom::EdgeSideFilter::new(&d, exp);
-        for e in edges {
-            match side.of(&e) {
+        for e in &edges {
+            match side.of(e) {
                 Some(std::cmp::Ordering::Less) => continue,
                 Some(std::cmp::Ordering::Greater) => {
                     outside = true;
@@ -840,6 +839,7 @@ impl World {
                 }
                 _ => {}
             }
+            let e = e.edge();
             let lhs = (xn * &e.nx * yd + yn * &e.ny * xd) << lshift;
             let rhs = (&e.h * &den) << rshift;
             match lhs.cmp(&rhs) {

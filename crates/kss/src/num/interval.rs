@@ -44,31 +44,56 @@ impl Interval {
         Interval { lo: x, hi: x }
     }
 
-    /// An enclosure of the integer `x`.
+    /// An enclosure of the integer `x` (the point where `x` fits `i128` and
+    /// is a double).
+    ///
+    /// Not through `IBig::to_f64`: dashu-int 0.6.2 tags some conversions of
+    /// integers past 64 bits `Exact` that are not (a 134-bit integer whose
+    /// low 60 bits are zero, for one; the test below keeps such cases).
+    /// Past `i128` the enclosure comes from the top 64 bits: `|x|` lies in
+    /// `[m·2^k, (m + 1)·2^k]`.
     pub fn of_int(x: &Int) -> Interval {
-        let approx = x.to_f64();
-        let v = approx.value();
-        match approx {
-            dashu_base::Approximation::Exact(_) => Interval::point(v),
-            dashu_base::Approximation::Inexact(_, _) => {
-                if v.is_infinite() {
-                    if v > 0.0 {
-                        Interval {
-                            lo: f64::MAX,
-                            hi: f64::INFINITY,
-                        }
-                    } else {
-                        Interval {
-                            lo: f64::NEG_INFINITY,
-                            hi: f64::MIN,
-                        }
-                    }
-                } else {
-                    Interval {
-                        lo: down(v),
-                        hi: up(v),
-                    }
-                }
+        if let Ok(v) = i128::try_from(x) {
+            return Interval::of_i128(v);
+        }
+        let negative = *x < Int::ZERO;
+        let bits = dashu_base::BitTest::bit_len(x);
+        let magnitude = if bits > 1024 {
+            // at least 2^1024, past every double
+            Interval {
+                lo: f64::MAX,
+                hi: f64::INFINITY,
+            }
+        } else {
+            let k = bits - 64;
+            let top = if negative { -x.clone() } else { x.clone() } >> k;
+            let m = u64::try_from(&top).expect("64 bits");
+            // (products by 2^k, k <= 960, are exact; the upper one may
+            // reach infinity)
+            let scale = 2f64.powi(k as i32);
+            Interval {
+                lo: down(m as f64) * scale,
+                hi: up((u128::from(m) + 1) as f64) * scale,
+            }
+        };
+        if negative {
+            -magnitude
+        } else {
+            magnitude
+        }
+    }
+
+    /// An enclosure of the integer `x` (the point where `x` is a double).
+    pub fn of_i128(x: i128) -> Interval {
+        let v = x as f64;
+        // (`v` is an integer in [−2^127, 2^127]; `v as i128` is exact below
+        // 2^127 and saturates at it, so that value is left out)
+        if v < 2f64.powi(127) && v as i128 == x {
+            Interval::point(v)
+        } else {
+            Interval {
+                lo: down(v),
+                hi: up(v),
             }
         }
     }
@@ -299,6 +324,78 @@ mod tests {
         let huge = Int::from(1) << 2000;
         let iv = Interval::of_int(&huge);
         assert!(iv.hi.is_infinite() && iv.lo == f64::MAX);
+    }
+
+    /// `of_int` encloses integers of every length, those past 64 bits with
+    /// many low zero bits too (dashu-int 0.6.2 calls some of their
+    /// conversions to f64 exact that are not: the first case is one).
+    #[test]
+    fn int_enclosures_hold_the_integer() {
+        let holds = |x: &Int| {
+            let iv = Interval::of_int(x);
+            let r = crate::num::Rational::from_int(x.clone());
+            let lo = crate::num::Rational::from_f64(iv.lo);
+            let hi = crate::num::Rational::from_f64(iv.hi);
+            assert!(lo.is_none_or(|lo| lo <= r), "{x}: {iv:?}");
+            assert!(hi.is_none_or(|hi| r <= hi), "{x}: {iv:?}");
+        };
+        let known: Int = "13031795572555964228897880566452730200064"
+            .parse()
+            .expect("an integer");
+        holds(&known);
+        holds(&-known);
+        let mut rng = crate::rng::Rng::new(7);
+        for _ in 0..20_000 {
+            let mut x = Int::ZERO;
+            for _ in 0..1 + rng.below(5) {
+                x = (x << 64) + Int::from(rng.next_u64());
+            }
+            let keep = rng.below(120) as usize;
+            x = (x >> keep) << keep;
+            if rng.below(2) == 0 {
+                x = -x;
+            }
+            holds(&x);
+        }
+    }
+
+    /// `of_i128` encloses every `i128`, as a point exactly where the value
+    /// is a double, and agrees with `of_int` on the same integer.
+    #[test]
+    fn i128_enclosures() {
+        let cases = [
+            0i128,
+            1,
+            -1,
+            (1 << 53) + 1,
+            -(1 << 53) - 1,
+            1 << 100,
+            (1 << 100) + 1,
+            i128::MAX,
+            i128::MIN,
+            i128::MIN + 1,
+            (1 << 126) - 3,
+        ];
+        for x in cases {
+            let iv = Interval::of_i128(x);
+            let exact = Int::from(x);
+            let (lo, hi) = (
+                crate::num::Rational::from_f64(iv.lo).expect("finite"),
+                crate::num::Rational::from_f64(iv.hi).expect("finite"),
+            );
+            let r = crate::num::Rational::from_int(exact.clone());
+            assert!(lo <= r && r <= hi, "{x} outside {iv:?}");
+            assert_eq!(
+                iv.lo == iv.hi,
+                (x as f64) as i128 == x && x != i128::MAX,
+                "{x}"
+            );
+            assert_eq!(
+                iv.lo == iv.hi,
+                Interval::of_int(&exact).lo == Interval::of_int(&exact).hi,
+                "{x}"
+            );
+        }
     }
 
     #[test]

@@ -264,7 +264,9 @@ impl Rational {
         if !r.is_zero() {
             q |= Int::ONE; // sticky bit, far below the rounding position
         }
-        let qf = q.to_f64().value();
+        // (q has at most 68 bits: `u128 as f64` rounds it correctly, which
+        // dashu-int's `to_f64` does not promise past 64 bits)
+        let qf = u128::try_from(&q).expect("at most 68 bits") as f64;
         let v = scale_pow2(qf, -s);
         if self.num < Int::ZERO {
             -v

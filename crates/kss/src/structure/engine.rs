@@ -827,8 +827,6 @@ impl Kinetic {
             .filter_map(|b| self.by_body.get(b))
             .flatten()
             .copied()
-            .collect::<BTreeSet<_>>()
-            .into_iter()
             .collect();
         for &_b in bodies {
             trace!(

@@ -712,19 +712,32 @@ impl<'a> Geo<'a> {
         }
     }
 
-    /// The position of `a` at a time in `t` in midpoint–radius form
-    /// ([`MidRad::at`] of [`Geo::enclose_linear`]; `None` for `ω` or where
-    /// a value is not finite), through a small cache ([`MidCache`]): at an
-    /// event the same few points are placed for many predicates. An entry
-    /// is keyed by everything the value depends on: the body and id, the
-    /// body's frame ([`Frame::uid`], never reused: a motion change is a new
-    /// frame), the approximation's contents ([`Exposed::version`], never
-    /// reused; 0 for the real polygon) and the two ends of `t`, compared
-    /// exactly; debug builds check every hit against a fresh computation.
+    /// The position of `a` at a time in `t` in midpoint–radius form (`None`
+    /// for `ω` or where a value is not finite). A vertex of a polygon that
+    /// is not approximated comes straight from its input doubles and its
+    /// frame's midpoint–radius terms ([`Frame::mid_rad_of_vertex`]: a few
+    /// products, cheaper than a cache lookup). An approximation vertex is
+    /// [`MidRad::at`] of [`Geo::enclose_linear`] through a small cache
+    /// ([`MidCache`]): at an event the same few points are placed for many
+    /// predicates. An entry is keyed by everything the value depends on:
+    /// the body and id, the body's frame ([`Frame::uid`], never reused: a
+    /// motion change is a new frame), the approximation's contents
+    /// ([`Exposed::version`], never reused) and the two ends of `t`,
+    /// compared exactly; debug builds check every hit against a fresh
+    /// computation.
     pub fn mid_rad(&self, a: Att, t: Interval) -> Option<MidRad> {
         let Obj::Body(b) = a.obj else {
             return None;
         };
+        if self.shapes.approx(b).is_none() {
+            // a real vertex: from its input doubles and the frame's terms,
+            // cheaper than the cache
+            let body = self.world.body(b);
+            let v = body.shape.f64_vertices()[a.v as usize];
+            return body
+                .frame
+                .mid_rad_of_vertex(v, crate::geom::TimeMidRad::of(t));
+        }
         let [version, uid] = self.view_words(b);
         let id = a.word();
         let key = [id, uid, version, t.lo.to_bits(), t.hi.to_bits()];
