@@ -114,8 +114,12 @@ impl Frame {
                 Interval::of_int(x) / wi
             }
         });
-        // (a midpoint and a radius that reaches both ends, rounded up)
+        // (a midpoint and a radius that reaches both ends, rounded up; a
+        // point, an exact zero velocity among them, keeps radius zero)
         let mid_rad = |c: Interval| {
+            if c.lo == c.hi {
+                return [c.lo, 0.0];
+            }
             let m = 0.5 * c.lo + 0.5 * c.hi;
             [m, (c.hi - m).max(m - c.lo).next_up()]
         };
@@ -202,6 +206,25 @@ impl Frame {
             y: py,
             r,
         })
+    }
+
+    /// The linear position `(x0 + x1·t, y0 + y1·t)` of the body polygon
+    /// vertex given by its input doubles `(x, y)` in midpoint–radius form
+    /// `[x0, x1, y0, y1]`: [`Frame::linear_enclosure_of_vertex`] without
+    /// interval sums (`None` where a value is not finite).
+    #[inline]
+    pub fn linear_mr_of_vertex(&self, [x, y]: [f64; 2]) -> Option<[crate::geom::Mr; 4]> {
+        use crate::geom::Mr;
+        let [[mox, rox, mvx, rvx], [moy, roy, mvy, rvy]] = self.mr;
+        let x0 = Mr { m: mox, r: rox } + Mr::point(x);
+        let y0 = Mr { m: moy, r: roy } + Mr::point(y);
+        // (a velocity that is exactly zero stays the exact zero)
+        let x1 = Mr { m: mvx, r: rvx };
+        let y1 = Mr { m: mvy, r: rvy };
+        [x0, x1, y0, y1]
+            .iter()
+            .all(|v| v.m.is_finite() && v.r.is_finite())
+            .then_some([x0, x1, y0, y1])
     }
 
     /// The enclosures `[x1, y1]` of the velocity, the terms of every

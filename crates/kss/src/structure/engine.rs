@@ -183,47 +183,63 @@ fn cert_poly_of(kind: super::certs::CertKind, sign: Sign, p: &[LinearPoint; 3]) 
 /// (an enclosure `[0, 0]` where the coefficient is exactly zero because two
 /// of the points are on one body), from the f64 view of the points.
 fn cert_enclosure(world: &Geo, c: &Cert) -> Option<[Interval; 3]> {
+    use crate::geom::Mr;
     let order = c.kind == super::certs::CertKind::Order;
     // the same points as cert_poly: Order is −(p0 − p1)·(p2 − p1)
     let [p, q, r] = if order { [c.p[1], c.p[0], c.p[2]] } else { c.p };
+    // (midpoint–radius arithmetic: a few products per operation and no
+    // branch, where intervals take the extreme products by cases)
     let [ep, eq, er] = [
-        world.enclose_linear(p)?,
-        world.enclose_linear(q)?,
-        world.enclose_linear(r)?,
+        world.linear_mr(p)?,
+        world.linear_mr(q)?,
+        world.linear_mr(r)?,
     ];
-    let zero = Interval::point(0.0);
-    // q − p as linear enclosures; the velocity part is exactly zero for two
+    // q − p as linear positions; the velocity part is exactly zero for two
     // points of one body
-    let diff = |a: Att, ea: &[Interval; 4], b: Att, eb: &[Interval; 4]| {
+    let diff = |a: Att, ea: &[Mr; 4], b: Att, eb: &[Mr; 4]| {
         let same = a.obj == b.obj;
         [
             eb[0] - ea[0],
-            if same { zero } else { eb[1] - ea[1] },
+            if same { Mr::ZERO } else { eb[1] - ea[1] },
             eb[2] - ea[2],
-            if same { zero } else { eb[3] - ea[3] },
+            if same { Mr::ZERO } else { eb[3] - ea[3] },
         ]
     };
     let [ux0, ux1, uy0, uy1] = diff(p, &ep, q, &eq);
     let [vx0, vx1, vy0, vy1] = diff(p, &ep, r, &er);
     let same_qr = q.obj == r.obj;
+    // (a sum with an exact zero is the other term, exactly)
+    let plus = |a: Mr, b: Mr| {
+        if a.is_zero() {
+            b
+        } else if b.is_zero() {
+            a
+        } else {
+            a + b
+        }
+    };
     let mut e = if order {
         [
-            ux0 * vx0 + uy0 * vy0,
-            ux0 * vx1 + ux1 * vx0 + uy0 * vy1 + uy1 * vy0,
-            ux1 * vx1 + uy1 * vy1,
+            plus(ux0 * vx0, uy0 * vy0),
+            plus(plus(ux0 * vx1, ux1 * vx0), plus(uy0 * vy1, uy1 * vy0)),
+            plus(ux1 * vx1, uy1 * vy1),
         ]
     } else {
         [
-            ux0 * vy0 - uy0 * vx0,
-            ux0 * vy1 + ux1 * vy0 - uy0 * vx1 - uy1 * vx0,
+            plus(ux0 * vy0, -(uy0 * vx0)),
+            plus(plus(ux0 * vy1, ux1 * vy0), -plus(uy0 * vx1, uy1 * vx0)),
             // u and v move alike when q and r are on one body
-            if same_qr { zero } else { ux1 * vy1 - uy1 * vx1 },
+            if same_qr {
+                Mr::ZERO
+            } else {
+                plus(ux1 * vy1, -(uy1 * vx1))
+            },
         ]
     };
     if order || c.sign == Sign::Negative {
         e = e.map(|x| -x);
     }
-    Some(e)
+    Some(e.map(Mr::interval))
 }
 
 /// A deferred failure time's exact computation: the certificate's three
@@ -2432,6 +2448,114 @@ mod tests {
             }
         }
         assert!(decided > 1000 && undecided > 10, "{decided} {undecided}");
+    }
+
+    /// The certificate filter's coefficient enclosures ([`cert_enclosure`],
+    /// midpoint–radius arithmetic) hold the exact coefficients of the
+    /// certificate function (in real coordinates, a positive multiple of
+    /// [`cert_poly`]), for every kind and sign, on triples of real and
+    /// approximation vertices of every family, moving and fixed, and are
+    /// exact zeros where a coefficient is exactly zero by construction.
+    #[test]
+    fn certificate_enclosures_hold_the_exact_coefficients() {
+        use crate::structure::certs::CertKind;
+        let mut checked = 0u64;
+        for family in Family::ALL {
+            for seed in 0..4 {
+                let s = generate_small(family, seed);
+                let world = World::new(&s, None).unwrap();
+                for hierarchical in [false, true] {
+                    let mut shapes = crate::structure::geo::Shapes::default();
+                    if hierarchical {
+                        shapes = crate::structure::refine::coarsest_shapes(&world, 0);
+                    }
+                    let geo = Geo {
+                        world: &world,
+                        shapes: &shapes,
+                    };
+                    let pts: Vec<Att> = (0..world.len().min(4))
+                        .flat_map(|b| {
+                            let b = crate::world::BodyId(b as u32);
+                            geo.ids(b).into_iter().map(move |v| Att::vertex(b, v))
+                        })
+                        .collect();
+                    // the exact linear position (x0 + x1·t, y0 + y1·t)
+                    let lin = |a: Att| {
+                        let l = geo.point(a);
+                        let q = |n: &crate::num::Int| Rational::new(n.clone(), l.w.clone());
+                        [q(&l.x0), q(&l.x1), q(&l.y0), q(&l.y1)]
+                    };
+                    for (i, &u) in pts.iter().enumerate().step_by(2) {
+                        for &v in pts[i + 1..].iter().step_by(2) {
+                            for &w in pts.iter().step_by(3) {
+                                if u == w || v == w {
+                                    continue;
+                                }
+                                for (kind, sign) in [
+                                    (CertKind::Junction, Sign::Positive),
+                                    (CertKind::Triangle, Sign::Negative),
+                                    (CertKind::Order, Sign::Positive),
+                                ] {
+                                    let c = Cert {
+                                        p: [u, v, w],
+                                        sign,
+                                        kind,
+                                    };
+                                    let Some(e) = cert_enclosure(&geo, &c) else {
+                                        continue;
+                                    };
+                                    let order = kind == CertKind::Order;
+                                    let [p, q, r] = if order { [v, u, w] } else { [u, v, w] };
+                                    let [pp, pq, pr] = [lin(p), lin(q), lin(r)];
+                                    let d = |a: &[Rational; 4], b: &[Rational; 4]| {
+                                        [0, 1, 2, 3].map(|k| b[k].sub(&a[k]))
+                                    };
+                                    let [ux0, ux1, uy0, uy1] = d(&pp, &pq);
+                                    let [vx0, vx1, vy0, vy1] = d(&pp, &pr);
+                                    let m = |a: &Rational, b: &Rational| a.mul(b);
+                                    let mut exact = if order {
+                                        [
+                                            m(&ux0, &vx0).add(&m(&uy0, &vy0)),
+                                            m(&ux0, &vx1)
+                                                .add(&m(&ux1, &vx0))
+                                                .add(&m(&uy0, &vy1))
+                                                .add(&m(&uy1, &vy0)),
+                                            m(&ux1, &vx1).add(&m(&uy1, &vy1)),
+                                        ]
+                                    } else {
+                                        [
+                                            m(&ux0, &vy0).sub(&m(&uy0, &vx0)),
+                                            m(&ux0, &vy1)
+                                                .add(&m(&ux1, &vy0))
+                                                .sub(&m(&uy0, &vx1))
+                                                .sub(&m(&uy1, &vx0)),
+                                            m(&ux1, &vy1).sub(&m(&uy1, &vx1)),
+                                        ]
+                                    };
+                                    if order || sign == Sign::Negative {
+                                        exact = exact.map(|x| x.neg());
+                                    }
+                                    for (iv, x) in e.iter().zip(&exact) {
+                                        if iv.is_zero() {
+                                            assert!(x.is_zero(), "{c:?}: {x} is no zero");
+                                        }
+                                        let lo = Rational::from_f64(iv.lo);
+                                        let hi = Rational::from_f64(iv.hi);
+                                        assert!(
+                                            lo.is_none_or(|lo| lo <= *x)
+                                                && hi.is_none_or(|hi| *x <= hi),
+                                            "{c:?}: {iv:?} misses {x}"
+                                        );
+                                    }
+                                    checked += 1;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 5000, "{checked}");
     }
 
     /// Pops done in place at the start, one approximation vertex after

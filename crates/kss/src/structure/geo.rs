@@ -702,6 +702,30 @@ impl<'a> Geo<'a> {
         Some(body.frame.linear_enclosure(x, y))
     }
 
+    /// [`Geo::enclose_linear`] in midpoint–radius form (the input of the
+    /// certificate filters): a vertex of a polygon that is not approximated
+    /// straight from its input doubles and its frame
+    /// ([`Frame::linear_mr_of_vertex`]), an approximation vertex from its
+    /// cached enclosures. `None` for `ω` or where a value is not finite.
+    #[inline]
+    pub fn linear_mr(&self, a: Att) -> Option<[crate::geom::Mr; 4]> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        if self.shapes.approx(b).is_none() {
+            let body = self.world.body(b);
+            let v = body.shape.f64_vertices()[a.v as usize];
+            return body.frame.linear_mr_of_vertex(v);
+        }
+        let [x0, x1, y0, y1] = self.enclose_linear(a)?;
+        Some([
+            crate::geom::Mr::of(x0)?,
+            crate::geom::Mr::of(x1)?,
+            crate::geom::Mr::of(y0)?,
+            crate::geom::Mr::of(y1)?,
+        ])
+    }
+
     /// Whether the cached enclosure of `a` ([`Geo::enclose_linear`]) is
     /// the one computed afresh (the audit's check that the memo never
     /// answers for another point).
