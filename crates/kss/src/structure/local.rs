@@ -1100,7 +1100,22 @@ impl Kss {
         // previous end, not `i` steps from the chain's start, which costs
         // `O(i)` on an approximation)
         let (mut alpha, mut beta) = (step_cw(world, a_s, i), step_cw(world, b_t, j));
+        // Each step is a function of the position alone (the instant and
+        // side are fixed), so a walk that comes back to a position cycles
+        // and would only run out its limit: it ends there, without a
+        // bridge. (Brent's cycle detection: the position is compared with
+        // one saved at steps 1, 2, 4, 8, ..., which finds any cycle within
+        // about twice its length and tail.)
+        let (mut saved, mut power) = ((i, j), 1u32);
         for steps in 0..limit {
+            if steps > 0 {
+                if (i, j) == saved {
+                    return None;
+                }
+                if steps == power {
+                    (saved, power) = ((i, j), power.saturating_mul(2));
+                }
+            }
             debug_assert_eq!(alpha, step_cw(world, a_s, i));
             debug_assert_eq!(beta, step_cw(world, b_t, j));
             // α's turn in face t (towards α − 1, or b_t when α = a_t) and in
