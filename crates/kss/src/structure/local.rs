@@ -722,6 +722,21 @@ impl Kss {
         t: &Time,
         hint: Option<(u32, u32)>,
     ) -> Result<u32, String> {
+        // (the walks of this call are remembered until it returns)
+        *self.walk_memo.borrow_mut() = Some(Vec::new());
+        let r = self.normalize_walking(world, k, t, hint);
+        *self.walk_memo.borrow_mut() = None;
+        r
+    }
+
+    /// [`Kss::normalize`] with the walk memo on.
+    fn normalize_walking(
+        &mut self,
+        world: &Geo,
+        k: CorrId,
+        t: &Time,
+        hint: Option<(u32, u32)>,
+    ) -> Result<u32, String> {
         super::counters::bump(super::counters::Counter::Normalizations);
         let ki = k.0 as usize;
         let c = &self.corrs[ki];
@@ -1072,6 +1087,34 @@ impl Kss {
     /// tangency conditions hold just on `side` of `t`, in at most `limit`
     /// steps.
     fn walk(
+        &self,
+        world: &Geo,
+        k: CorrId,
+        (t, side): (&Time, Side),
+        start: (u32, u32),
+        ty: Diagonal,
+        limit: u32,
+    ) -> Option<((u32, u32), u32)> {
+        let key: super::WalkKey = (
+            k.0,
+            start,
+            ty == Diagonal::SourceToTarget,
+            side == Side::After,
+        );
+        if let Some(memo) = self.walk_memo.borrow().as_ref() {
+            if let Some((_, r)) = memo.iter().find(|(x, _)| *x == key) {
+                return *r;
+            }
+        }
+        let r = self.walk_fresh(world, k, (t, side), start, ty, limit);
+        if let Some(memo) = self.walk_memo.borrow_mut().as_mut() {
+            memo.push((key, r));
+        }
+        r
+    }
+
+    /// [`Kss::walk`] computed.
+    fn walk_fresh(
         &self,
         world: &Geo,
         k: CorrId,

@@ -157,7 +157,20 @@ pub struct Kss {
     /// cycle, [`engine::Kinetic::alternate_normalization`]), the one
     /// holding the fewest.
     pub fewest_held: Option<crate::num::Time>,
+    /// The middle-bridge walks of the [`Kss::normalize`] call in progress
+    /// (`None` outside one): a walk is a function of its corridor, start,
+    /// diagonal type and side at the instant, and a normalization that finds
+    /// no decomposition walks the same ones again for its candidates.
+    pub(crate) walk_memo: std::cell::RefCell<Option<Vec<WalkMemoEntry>>>,
 }
+
+/// What a middle-bridge walk of one normalization depends on: the
+/// corridor, the start, the diagonal type and the side (`true`: after).
+pub(crate) type WalkKey = (u32, (u32, u32), bool, bool);
+
+/// A remembered walk: its key and where it ended (the middle bridge and
+/// the steps it took), `None` if it found none.
+pub(crate) type WalkMemoEntry = (WalkKey, Option<((u32, u32), u32)>);
 
 impl Kss {
     /// The corner of triangle `t` at index `i` (mod 3).
