@@ -99,6 +99,10 @@ pub struct BodyPolygon {
     /// The integer coordinates as `i128` when `bits` is at most 100 (the
     /// input of those passes).
     small: Option<Vec<[i128; 2]>>,
+    /// With `small`: the edge of least angle in `[0, 2π)`, and the edge of
+    /// least angle reversed (where the Minkowski walk starts on this
+    /// polygon as `B` and as `A`).
+    first_edges: [usize; 2],
 }
 
 /// What is wrong with a vertex list (see [`BodyPolygon::new`]).
@@ -179,6 +183,7 @@ impl BodyPolygon {
                 .map(|(x, y)| [x, y].map(|c| i128::try_from(c).expect("below 2^100")))
                 .collect()
         });
+        let first_edges = small.as_deref().map_or([0, 0], first_edges_i128);
         let poly = BodyPolygon {
             xs,
             ys,
@@ -188,6 +193,7 @@ impl BodyPolygon {
             bbox,
             bits,
             small,
+            first_edges,
         };
         poly.check_convex()?;
         Ok(poly)
@@ -1175,10 +1181,16 @@ impl SmallEdge {
         let [nx, ny] = self.n;
         let [vx, vy] = self.v;
         let [inx, iny] = [nx, ny].map(Interval::of_i128);
-        let h = nx
-            .checked_mul(vx)
-            .zip(ny.checked_mul(vy))
-            .and_then(|(p, q)| p.checked_add(q));
+        // (factors below 2^63: products below 2^126, their sum in range)
+        let small = (nx.unsigned_abs() | ny.unsigned_abs() | vx.unsigned_abs() | vy.unsigned_abs())
+            < 1 << 63;
+        let h = if small {
+            Some(nx * vx + ny * vy)
+        } else {
+            nx.checked_mul(vx)
+                .zip(ny.checked_mul(vy))
+                .and_then(|(p, q)| p.checked_add(q))
+        };
         let ih = match h {
             Some(h) => Interval::of_i128(h),
             None => inx * Interval::of_i128(vx) + iny * Interval::of_i128(vy),
@@ -1216,12 +1228,7 @@ fn minkowski_walk_i128(
         let ([x0, y0], [x1, y1]) = (va[i], va[(i + 1) % n]);
         (x0 - x1, y0 - y1)
     };
-    let j0 = (0..m)
-        .min_by(|&x, &y| angle_cmp_i128(edge_b(x), edge_b(y)))
-        .expect("non-empty");
-    let i0 = (0..n)
-        .min_by(|&x, &y| angle_cmp_i128(edge_na(x), edge_na(y)))
-        .expect("non-empty");
+    let (j0, i0) = (b.first_edges[0], a.first_edges[1]);
     let (mut ib, mut ia) = (0usize, 0usize);
     while ib < m || ia < n {
         let j = (j0 + ib) % m;
@@ -1415,6 +1422,28 @@ fn minkowski_walk<T>(
     }
 }
 
+/// The edge of least angle of the polygon with vertices `v`, and of least
+/// angle reversed ([`BodyPolygon::first_edges`]).
+fn first_edges_i128(v: &[[i128; 2]]) -> [usize; 2] {
+    let n = v.len();
+    let edge = |i: usize| {
+        let ([x0, y0], [x1, y1]) = (v[i], v[(i + 1) % n]);
+        (x1 - x0, y1 - y0)
+    };
+    let least = |f: &dyn Fn(usize) -> (i128, i128)| {
+        (0..n)
+            .min_by(|&x, &y| angle_cmp_i128(f(x), f(y)))
+            .expect("non-empty")
+    };
+    [
+        least(&edge),
+        least(&|i| {
+            let (x, y) = edge(i);
+            (-x, -y)
+        }),
+    ]
+}
+
 /// [`angle_cmp`] on `i128` vectors (components below `2^101`): the cross
 /// products on `i128` where they fit, on big integers where not.
 fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
@@ -1422,6 +1451,11 @@ fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
     let (hu, hv) = (half(u), half(v));
     if hu != hv {
         return hu.cmp(&hv);
+    }
+    // (components below 2^63: each product below 2^126, no check needed)
+    let small = |d: (i128, i128)| (d.0.unsigned_abs() | d.1.unsigned_abs()) < 1 << 63;
+    if small(u) && small(v) {
+        return (u.1 * v.0).cmp(&(u.0 * v.1));
     }
     match (u.1.checked_mul(v.0), u.0.checked_mul(v.1)) {
         (Some(p), Some(q)) => p.cmp(&q),
