@@ -288,7 +288,7 @@ fn check(text: &str) -> Result<&'static str, String> {
 /// Seeds whose texts are known failures, each kept (minimized) as an
 /// ignored test below and in `testdata/known-failures/`; the sweep skips
 /// them and says so.
-const KNOWN_FAILURES: &[u64] = &[58, 105393, 106503, 111936, 200238];
+const KNOWN_FAILURES: &[u64] = &[58, 105393, 111936, 200238];
 
 #[test]
 fn scenario_texts_across_the_range_of_doubles() {
@@ -382,14 +382,6 @@ fn hierarchy_beside_a_polygon_flying_off_at_4e305() {
 #[ignore = "known failure: the hierarchy finds no rebuild after a bounce at t = 2.8e-174 between polygons at 8e172"]
 fn hierarchy_after_a_bounce_at_2_8e_minus_174() {
     known_failure("hierarchy_no_rebuild_after_a_bounce_at_2.8e-174.json");
-}
-
-/// A fuzzer find (seed 106503) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy finds no decomposition and no rebuild after a bounce at t = 6.7e-107"]
-fn hierarchy_after_a_bounce_at_6_7e_minus_107() {
-    known_failure("hierarchy_no_decomposition_after_a_bounce_at_6.7e-107.json");
 }
 
 /// A fuzzer find (seed 200238) that still fails: see

@@ -29,7 +29,8 @@
 //! sizes and velocities across the whole range of doubles (near 1e308,
 //! subnormal, 1e-300 beside 1e300, a 1e-18 triangle among unit ones,
 //! scales 2^±1000 in one scene, bounces at t = 1e-307 between polygons
-//! moving at 5e307: the `extreme_*` files).
+//! moving at 5e307, a collision at t = 6.7e-109 of polygons at 6e269, one
+//! moving at 2.6e304: the `extreme_*` files).
 //! Each must give byte-identical output with `brute`, `plain --audit` and
 //! `hierarchical --audit`, the hierarchy approximating every polygon (as
 //! when the files were found: their polygons are small) and, for the
