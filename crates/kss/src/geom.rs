@@ -537,11 +537,8 @@ impl std::ops::Sub for Mr {
     /// The difference.
     #[inline]
     fn sub(self, o: Mr) -> Mr {
-        let m = self.m - o.m;
-        Mr {
-            m,
-            r: (self.r + o.r + EPS * m.abs()) * (1.0 + 4.0 * EPS),
-        }
+        // (negation is exact: the same rounding as the sum)
+        self + (-o)
     }
 }
 
@@ -1199,7 +1196,7 @@ impl SmallEdge {
     }
 }
 
-/// The walk of [`minkowski_walk`] on `i128`, where each polygon's integer
+/// The Minkowski walk ([`merge_by_angle`]) on `i128`, where each polygon's integer
 /// coordinates shifted to the common units (by `sa` for A, `sb` for B)
 /// stay below `2^124`: edge vectors and `M`'s vertices below `2^125`. The
 /// order of the edges is decided on each polygon's own (unshifted) edge
@@ -1228,18 +1225,10 @@ fn minkowski_walk_i128(
         let ([x0, y0], [x1, y1]) = (va[i], va[(i + 1) % n]);
         (x0 - x1, y0 - y1)
     };
-    let (j0, i0) = (b.first_edges[0], a.first_edges[1]);
-    let (mut ib, mut ia) = (0usize, 0usize);
-    while ib < m || ia < n {
-        let j = (j0 + ib) % m;
-        let i = (i0 + ia) % n;
-        let take_b = if ib == m {
-            false
-        } else if ia == n {
-            true
-        } else {
-            angle_cmp_i128(edge_b(j), edge_na(i)) != std::cmp::Ordering::Greater
-        };
+    let first = (a.first_edges[1], b.first_edges[0]);
+    let b_first =
+        |i: usize, j: usize| angle_cmp_i128(edge_b(j), edge_na(i)) != std::cmp::Ordering::Greater;
+    merge_by_angle((n, m), first, b_first, |i, j, take_b| {
         // current vertex of M: b_j − a_i, in the common units
         let [bx, by] = vb[j].map(|c| c << sb);
         let [ax, ay] = va[i].map(|c| c << sa);
@@ -1258,12 +1247,7 @@ fn minkowski_walk_i128(
             if take_b { Ok(j) } else { Err(i) },
             if take_b { i } else { j },
         );
-        if take_b {
-            ib += 1;
-        } else {
-            ia += 1;
-        }
-    }
+    });
     true
 }
 
@@ -1335,55 +1319,25 @@ pub(crate) fn minkowski_edges_filtered(
 }
 
 /// [`for_each_minkowski_edge`] on big integers (`A`'s coordinates shifted
-/// left by `sa`, `B`'s by `sb`).
+/// left by `sa`, `B`'s by `sb`), where they do not fit
+/// [`minkowski_walk_i128`] (which gives the same edges in the same order).
 fn minkowski_edges_big(
     a: &BodyPolygon,
     b: &BodyPolygon,
     (sa, sb): (usize, usize),
     visit: &mut impl FnMut(MinkowskiEdge),
 ) {
-    minkowski_walk(
-        (a.len(), b.len()),
-        |i| (&a.xs[i] << sa, &a.ys[i] << sa),
-        |j| (&b.xs[j] << sb, &b.ys[j] << sb),
-        &mut |[nx, ny, h]: [Int; 3], source, other| {
-            visit(MinkowskiEdge {
-                nx,
-                ny,
-                h,
-                source,
-                other,
-            })
-        },
-    );
-}
-
-/// The merge of [`for_each_minkowski_edge`] over the `n` vertices of `A`
-/// (`av`) and the `m` of `B` (`bv`), in integer units, on big integers
-/// (where the coordinates do not fit [`minkowski_walk_i128`], which gives
-/// the same edges in the same order).
-fn minkowski_walk<T>(
-    (n, m): (usize, usize),
-    av: impl Fn(usize) -> (T, T),
-    bv: impl Fn(usize) -> (T, T),
-    visit: &mut impl FnMut([T; 3], Result<usize, usize>, usize),
-) where
-    T: Ord + Default,
-    for<'x> &'x T: std::ops::Sub<&'x T, Output = T>
-        + std::ops::Add<&'x T, Output = T>
-        + std::ops::Mul<&'x T, Output = T>
-        + std::ops::Neg<Output = T>,
-{
+    let (n, m) = (a.len(), b.len());
+    let av = |i: usize| (&a.xs[i] << sa, &a.ys[i] << sa);
+    let bv = |j: usize| (&b.xs[j] << sb, &b.ys[j] << sb);
     // Edge directions: B's edges, and the reversed edges of A (edges of −A).
     let edge_b = |j: usize| {
-        let (x0, y0) = bv(j);
-        let (x1, y1) = bv((j + 1) % m);
-        (&x1 - &x0, &y1 - &y0)
+        let ((x0, y0), (x1, y1)) = (bv(j), bv((j + 1) % m));
+        (x1 - x0, y1 - y0)
     };
     let edge_na = |i: usize| {
-        let (x0, y0) = av(i);
-        let (x1, y1) = av((i + 1) % n);
-        (&x0 - &x1, &y0 - &y1)
+        let ((x0, y0), (x1, y1)) = (av(i), av((i + 1) % n));
+        (x0 - x1, y0 - y1)
     };
     let j0 = (0..m)
         .min_by(|&x, &y| angle_cmp(&edge_b(x), &edge_b(y)))
@@ -1391,6 +1345,37 @@ fn minkowski_walk<T>(
     let i0 = (0..n)
         .min_by(|&x, &y| angle_cmp(&edge_na(x), &edge_na(y)))
         .expect("non-empty");
+    let b_first =
+        |i: usize, j: usize| angle_cmp(&edge_b(j), &edge_na(i)) != std::cmp::Ordering::Greater;
+    merge_by_angle((n, m), (i0, j0), b_first, |i, j, take_b| {
+        // current vertex of M: b_j − a_i
+        let ((bx, by), (ax, ay)) = (bv(j), av(i));
+        let (vx, vy) = (bx - ax, by - ay);
+        let (ex, ey) = if take_b { edge_b(j) } else { edge_na(i) };
+        let (nx, ny) = (ey, -ex);
+        let h = &nx * &vx + &ny * &vy;
+        visit(MinkowskiEdge {
+            nx,
+            ny,
+            h,
+            source: if take_b { Ok(j) } else { Err(i) },
+            other: if take_b { i } else { j },
+        });
+    });
+}
+
+/// The merge behind [`for_each_minkowski_edge`]: the `m` edges of `B` and
+/// the `n` reversed edges of `A` in counter-clockwise order of angle, from
+/// the least-angled of each (`first`: `(i0, j0)`), B's edge first on a tie
+/// (`b_first(i, j)`: B's edge `j` comes no later than A's reversed edge
+/// `i`). Calls `visit(i, j, take_b)` for each edge of `M` in order, with
+/// the current edge indices and whether it is B's.
+fn merge_by_angle(
+    (n, m): (usize, usize),
+    (i0, j0): (usize, usize),
+    b_first: impl Fn(usize, usize) -> bool,
+    mut visit: impl FnMut(usize, usize, bool),
+) {
     let (mut ib, mut ia) = (0usize, 0usize);
     while ib < m || ia < n {
         let j = (j0 + ib) % m;
@@ -1400,20 +1385,9 @@ fn minkowski_walk<T>(
         } else if ia == n {
             true
         } else {
-            angle_cmp(&edge_b(j), &edge_na(i)) != std::cmp::Ordering::Greater
+            b_first(i, j)
         };
-        // current vertex of M: b_j − a_i
-        let (bx, by) = bv(j);
-        let (ax, ay) = av(i);
-        let (vx, vy) = (&bx - &ax, &by - &ay);
-        let (ex, ey) = if take_b { edge_b(j) } else { edge_na(i) };
-        let (nx, ny) = (ey, -&ex);
-        let h = &(&nx * &vx) + &(&ny * &vy);
-        visit(
-            [nx, ny, h],
-            if take_b { Ok(j) } else { Err(i) },
-            if take_b { i } else { j },
-        );
+        visit(i, j, take_b);
         if take_b {
             ib += 1;
         } else {
@@ -1464,14 +1438,9 @@ fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
 }
 
 /// Compare the angles in `[0, 2π)` of two non-zero integer vectors.
-fn angle_cmp<T>(u: &(T, T), v: &(T, T)) -> std::cmp::Ordering
-where
-    T: Ord + Default,
-    for<'x> &'x T: std::ops::Mul<&'x T, Output = T>,
-{
-    let zero = T::default();
-    let half = |d: &(T, T)| {
-        if d.1 > zero || (d.1 == zero && d.0 > zero) {
+fn angle_cmp(u: &(Int, Int), v: &(Int, Int)) -> std::cmp::Ordering {
+    let half = |d: &(Int, Int)| {
+        if d.1 > Int::ZERO || (d.1 == Int::ZERO && d.0 > Int::ZERO) {
             0
         } else {
             1

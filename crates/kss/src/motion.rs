@@ -71,8 +71,9 @@ pub struct Frame {
     /// a velocity component that is exactly zero is the point `[0, 0]`).
     iv: [Interval; 5],
     /// The origin and velocity enclosures of `iv` in midpoint–radius form,
-    /// per coordinate `[mo, ro, mv, rv]` ([`Frame::mid_rad_of_vertex`]).
-    mr: [[f64; 4]; 2],
+    /// per coordinate `[origin, velocity]` ([`Frame::mid_rad_of_vertex`]);
+    /// a non-finite enclosure is a midpoint NaN, which nothing decides on.
+    mr: [[crate::geom::Mr; 2]; 2],
     /// A number no other frame made in this process has (a clone keeps
     /// it: its values are the same): the key of cached enclosures.
     uid: u64,
@@ -114,17 +115,14 @@ impl Frame {
                 Interval::of_int(x) / wi
             }
         });
-        // (a midpoint and a radius that reaches both ends, rounded up; a
-        // point, an exact zero velocity among them, keeps radius zero)
+        // (a point, an exact zero velocity among them, keeps radius zero)
         let mid_rad = |c: Interval| {
-            if c.lo == c.hi {
-                return [c.lo, 0.0];
-            }
-            let m = 0.5 * c.lo + 0.5 * c.hi;
-            [m, (c.hi - m).max(m - c.lo).next_up()]
+            crate::geom::Mr::of(c).unwrap_or(crate::geom::Mr {
+                m: f64::NAN,
+                r: f64::INFINITY,
+            })
         };
-        let [[mox, rox], [moy, roy], [mvx, rvx], [mvy, rvy]] =
-            [iv[0], iv[1], iv[2], iv[3]].map(mid_rad);
+        let [ox_mr, oy_mr, vx_mr, vy_mr] = [iv[0], iv[1], iv[2], iv[3]].map(mid_rad);
         Frame {
             ox,
             oy,
@@ -133,7 +131,7 @@ impl Frame {
             m,
             w,
             iv,
-            mr: [[mox, rox, mvx, rvx], [moy, roy, mvy, rvy]],
+            mr: [[ox_mr, vx_mr], [oy_mr, vy_mr]],
             uid: NEXT_FRAME_UID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         }
     }
@@ -191,8 +189,8 @@ impl Frame {
         [x, y]: [f64; 2],
         t: crate::geom::TimeMidRad,
     ) -> Option<crate::geom::MidRad> {
-        use crate::geom::{EPS, TINY};
-        let coord = |[mo, ro, mv, rv]: [f64; 4], c: f64| {
+        use crate::geom::{Mr, EPS, TINY};
+        let coord = |[Mr { m: mo, r: ro }, Mr { m: mv, r: rv }]: [Mr; 2], c: f64| {
             let s1 = mo + c;
             let s2 = mv * t.tm;
             let r = ro + rv * t.tmax + mv.abs() * t.ht + 3.0 * EPS * (s1.abs() + s2.abs());
@@ -215,12 +213,9 @@ impl Frame {
     #[inline]
     pub fn linear_mr_of_vertex(&self, [x, y]: [f64; 2]) -> Option<[crate::geom::Mr; 4]> {
         use crate::geom::Mr;
-        let [[mox, rox, mvx, rvx], [moy, roy, mvy, rvy]] = self.mr;
-        let x0 = Mr { m: mox, r: rox } + Mr::point(x);
-        let y0 = Mr { m: moy, r: roy } + Mr::point(y);
+        let [[ox, x1], [oy, y1]] = self.mr;
         // (a velocity that is exactly zero stays the exact zero)
-        let x1 = Mr { m: mvx, r: rvx };
-        let y1 = Mr { m: mvy, r: rvy };
+        let (x0, y0) = (ox + Mr::point(x), oy + Mr::point(y));
         [x0, x1, y0, y1]
             .iter()
             .all(|v| v.m.is_finite() && v.r.is_finite())
@@ -379,6 +374,16 @@ mod tests {
         Point::from_f64([x, y]).unwrap()
     }
 
+    /// A triangle of size about `scale` around the origin of its frame.
+    fn scaled_triangle(scale: f64) -> BodyPolygon {
+        BodyPolygon::new(&[
+            [-0.3 * scale, -0.1 * scale],
+            [0.7 * scale, 0.05 * scale],
+            [0.1 * scale, 0.9 * scale],
+        ])
+        .unwrap()
+    }
+
     /// The enclosure of a vertex from its input doubles holds the exact
     /// linear position, for frames through non-dyadic instants (large
     /// denominators) and polygons of several scales.
@@ -389,12 +394,7 @@ mod tests {
             r(iv.lo) <= x && x <= r(iv.hi)
         };
         for scale in [1.0, 3.0e-7, 1.5e9] {
-            let poly = BodyPolygon::new(&[
-                [-0.3 * scale, -0.1 * scale],
-                [0.7 * scale, 0.05 * scale],
-                [0.1 * scale, 0.9 * scale],
-            ])
-            .unwrap();
+            let poly = scaled_triangle(scale);
             let t = Rational::new(Int::from(7), Int::from(3));
             for (p, v) in [
                 (pt(0.25, -1.5), pt(1.0 / 3.0, 0.2)),
@@ -423,12 +423,7 @@ mod tests {
     fn vertex_mid_rad_holds_the_exact_position() {
         let mut checked = 0;
         for scale in [1.0, 3.0e-7, 1.5e9, 1e-300, 1e250] {
-            let poly = BodyPolygon::new(&[
-                [-0.3 * scale, -0.1 * scale],
-                [0.7 * scale, 0.05 * scale],
-                [0.1 * scale, 0.9 * scale],
-            ])
-            .unwrap();
+            let poly = scaled_triangle(scale);
             let t0 = Rational::new(Int::from(7), Int::from(3));
             for (p, v) in [
                 (pt(0.25, -1.5), pt(1.0 / 3.0, 0.2)),
