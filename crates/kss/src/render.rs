@@ -3,7 +3,7 @@
 
 pub mod overlay;
 
-pub use overlay::StructureOverlay;
+pub use crate::structure::view::StructureOverlay;
 
 /// One polygon as drawn.
 #[derive(Clone, Debug, PartialEq)]
@@ -383,14 +383,14 @@ mod tests {
             triangles: vec![[[4.0, 3.0], [6.0, 3.0], [5.0, 4.0]]],
             infinite_triangles: 3,
             corridors: vec![
-                overlay::CorridorOverlay {
+                crate::structure::view::CorridorOverlay {
                     omega: false,
                     faces: vec![
                         vec![[4.0, 3.0], [3.0, 5.0], [7.0, 5.0], [6.0, 3.0]],
                         vec![[0.0, 1.0], [1.0, 1.0]],
                     ],
                 },
-                overlay::CorridorOverlay {
+                crate::structure::view::CorridorOverlay {
                     omega: true,
                     faces: vec![],
                 },
@@ -398,7 +398,7 @@ mod tests {
             end_edges: vec![[[4.0, 3.0], [6.0, 3.0]]],
             middle_bridges: vec![[[3.0, 5.0], [7.0, 5.0]]],
             omega_rays: vec![([3.0, 5.0], [0.0, 1.0])],
-            certificates: vec![overlay::CertificateOverlay {
+            certificates: vec![crate::structure::view::CertificateOverlay {
                 points: [[4.0, 3.0], [6.0, 3.0], [5.0, 4.0]],
                 kind: "triangle",
                 time: 2.75,

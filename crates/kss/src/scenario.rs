@@ -284,11 +284,3 @@ pub enum ScenarioError {
         b: String,
     },
 }
-
-impl Scenario {
-    /// Check every rule of the contract that is not about JSON syntax,
-    /// exactly. The first broken rule is reported.
-    pub fn validate(&self) -> Result<(), ScenarioError> {
-        crate::world::World::new(self, None).map(|_| ())
-    }
-}

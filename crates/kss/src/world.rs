@@ -1218,6 +1218,17 @@ impl Frac {
     }
 }
 
+/// Validation needs the exact polygons and their placement, which the world
+/// builds; it is defined here so that `scenario` stays a data module that
+/// depends on nothing above it.
+impl Scenario {
+    /// Check every rule of the contract that is not about JSON syntax,
+    /// exactly. The first broken rule is reported.
+    pub fn validate(&self) -> Result<(), ScenarioError> {
+        World::new(self, None).map(|_| ())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

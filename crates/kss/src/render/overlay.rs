@@ -2,84 +2,12 @@
 //! triangles, corridor faces, end-edges, middle bridges, the bridges to the
 //! point at infinity, and the certificates that fail next.
 //!
-//! The data here are plain doubles for display only; they are extracted from
-//! the exact structure by [`crate::structure::view::overlay`] and never feed
-//! back into a simulation.
+//! The data drawn are plain doubles for display only ([`StructureOverlay`]);
+//! they are extracted from the exact structure by
+//! [`crate::structure::view::overlay`] and never feed back into a simulation.
 
+use crate::structure::view::{Segment, StructureOverlay};
 use std::fmt::Write as _;
-
-/// A segment `[from, to]` in world coordinates.
-pub type Segment = [[f64; 2]; 2];
-
-/// One corridor as drawn.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct CorridorOverlay {
-    /// Whether the corridor lies between a body and the point at infinity
-    /// (unbounded: no face is drawn).
-    pub omega: bool,
-    /// Its faces (one, or two when it has a middle bridge), each a
-    /// counter-clockwise cycle of world points; empty for an ω-corridor and
-    /// for an empty corridor (both ends on one segment).
-    pub faces: Vec<Vec<[f64; 2]>>,
-}
-
-/// A certificate that fails soon, as drawn.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CertificateOverlay {
-    /// Its three points `p[0], p[1], p[2]` at the snapshot time.
-    pub points: [[f64; 2]; 3],
-    /// Why it exists: `"triangle"`, `"junction"`, `"hull turn"` or `"order"`.
-    pub kind: &'static str,
-    /// Its exact failure time, rounded to a double (display only).
-    pub time: f64,
-}
-
-/// The structure at the snapshot time, in world coordinates (display only).
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct StructureOverlay {
-    /// Partition triangles with three finite corners, counter-clockwise.
-    pub triangles: Vec<[[f64; 2]; 3]>,
-    /// The number of partition triangles with a corner at infinity (not drawn
-    /// as areas; their finite side is an end-edge, their sides to `ω` are
-    /// drawn as rays, see [`StructureOverlay::omega_rays`]).
-    pub infinite_triangles: usize,
-    /// Every corridor, in the structure's order.
-    pub corridors: Vec<CorridorOverlay>,
-    /// End-edges: sides of partition triangles between two finite corners,
-    /// each once.
-    pub end_edges: Vec<Segment>,
-    /// Middle bridges (one per corridor that has one).
-    pub middle_bridges: Vec<Segment>,
-    /// Bridges to the point at infinity: a finite corner and the outward unit
-    /// direction of the ray drawn from it.
-    pub omega_rays: Vec<([f64; 2], [f64; 2])>,
-    /// The certificates that fail next, earliest first.
-    pub certificates: Vec<CertificateOverlay>,
-    /// The hierarchical structure's outer approximations, one closed
-    /// outline per polygon seen through one, with whether each vertex is a
-    /// real polygon vertex (empty for the plain structure).
-    pub approximations: Vec<Vec<([f64; 2], bool)>>,
-    /// When set, the structure is not drawn and this text is shown instead
-    /// (for instance: the run ended before the snapshot time).
-    pub note: Option<String>,
-}
-
-impl StructureOverlay {
-    /// The number of partition triangles, finite and infinite (`2k − 2` for
-    /// `k ≥ 2` polygons).
-    pub fn triangle_count(&self) -> usize {
-        self.triangles.len() + self.infinite_triangles
-    }
-
-    /// The number of corridor faces drawn (faces with at least three points).
-    pub fn face_count(&self) -> usize {
-        self.corridors
-            .iter()
-            .flat_map(|c| &c.faces)
-            .filter(|f| f.len() >= 3)
-            .count()
-    }
-}
 
 /// Light fills that alternate between corridors.
 /// Outline colour of the hierarchy's outer approximations.
