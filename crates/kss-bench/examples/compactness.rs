@@ -17,7 +17,7 @@
 //! with random velocities (speed 0.2–1); `gas`: `kss::gen::gas` without
 //! walls (random convex `n`-gons in the same kind of grid; `n` at most 2^16).
 //! For each scene the structure is built at time 0
-//! (`kss::structure::engine::Kinetic::new`) and the table gives its
+//! (`kss::structure::kinetic::Kinetic::new`) and the table gives its
 //! certificates: all of them (`all`: every certificate the structure keeps,
 //! scheduled or not; by kind from the from-scratch certificate set), the
 //! scheduled ones (`sched`: those with a failure time on the current motions,
@@ -36,7 +36,7 @@ use kss::gen::{self, GasParams};
 use kss::num::{Rational, Time};
 use kss::rng::Rng;
 use kss::structure::certs::CertKind;
-use kss::structure::engine::Kinetic;
+use kss::structure::kinetic::Kinetic;
 use kss::world::World;
 use kss::{CollisionMode, PolygonSpec, Scenario};
 

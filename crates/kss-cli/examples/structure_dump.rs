@@ -4,8 +4,8 @@
 //!
 //! `cargo run -p kss-cli --example structure_dump -- SCENARIO.json TIME BODY BODY`
 use kss::num::{Rational, Time};
-use kss::structure::engine::{Kinetic, Step};
 use kss::structure::geo::Geo;
+use kss::structure::kinetic::{Kinetic, Step};
 use kss::structure::Obj;
 use kss::world::{BodyId, World};
 

@@ -498,7 +498,7 @@ mod larger_tests {
         let (_, perturbed) = build(&world, &at).unwrap();
         assert_eq!(perturbed, Perturbed::Yes);
         // the engine takes it only after the exact checks; then the audit
-        let k = crate::structure::engine::Kinetic::new(&world, &at).unwrap();
+        let k = crate::structure::kinetic::Kinetic::new(&world, &at).unwrap();
         let now = crate::num::Time::from_rational(at.clone());
         let next = k
             .next_time()

@@ -29,10 +29,10 @@ pub mod build;
 pub mod certs;
 pub mod coarsen;
 pub mod counters;
-pub mod engine;
 pub mod events;
 pub mod faces;
 pub mod geo;
+pub mod kinetic;
 pub mod local;
 pub(crate) mod memo;
 pub mod ops;
@@ -154,7 +154,7 @@ pub struct Kss {
     /// How [`Kss::normalize`] chooses among the decompositions that hold
     /// some junctions against the motion: the first candidate that works,
     /// or, at this instant (one at which the operations were seen to
-    /// cycle, [`engine::Kinetic::alternate_normalization`]), the one
+    /// cycle, [`kinetic::Kinetic::alternate_normalization`]), the one
     /// holding the fewest.
     pub fewest_held: Option<crate::num::Time>,
     /// The middle-bridge walks of the [`Kss::normalize`] call in progress

@@ -39,11 +39,55 @@ pub enum Owner {
     Corr(CorrId),
 }
 
+/// An internal event of the kinetic structure: a certificate failure
+/// repaired by a local operation, or a pop of the hierarchy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[non_exhaustive]
+pub enum EventKind {
+    /// A flip of a partition triangle's side between two bodies.
+    Flip,
+    /// A flip at the convex hull (a side to `ω`).
+    HullFlip,
+    /// An ear slide: a corner moves along its chain past a reflex turn.
+    EarSlide,
+    /// An end slide: a corridor's end-edge slides along a chain.
+    EndSlide,
+    /// A slide along the convex hull.
+    HullSlide,
+    /// A middle bridge slides to the next vertex.
+    MidSlide,
+    /// A thin corridor gets a middle bridge.
+    InsertMid,
+    /// An approximation vertex of the hierarchy replaced by the finer
+    /// vertices below it, where approximations came close.
+    Pop,
+    /// A pop while the structure is built (the hierarchy refined where
+    /// approximations touch at the start).
+    InitialPop,
+}
+
+impl EventKind {
+    /// The name in the statistics (`events_by_kind`).
+    pub fn name(self) -> &'static str {
+        match self {
+            EventKind::Flip => "flip",
+            EventKind::HullFlip => "hull_flip",
+            EventKind::EarSlide => "ear_slide",
+            EventKind::EndSlide => "end_slide",
+            EventKind::HullSlide => "hull_slide",
+            EventKind::MidSlide => "mid_slide",
+            EventKind::InsertMid => "insert_mid",
+            EventKind::Pop => "pop",
+            EventKind::InitialPop => "initial_pop",
+        }
+    }
+}
+
 /// What an operation did and what it touched.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Outcome {
-    /// The operation's name (the key in `events_by_kind`).
-    pub kind: &'static str,
+    /// The operation.
+    pub kind: EventKind,
     /// Partition triangles whose corners changed.
     pub tris: Vec<TriId>,
     /// Corridors whose ends, chains or middle bridge changed (or whose hull
@@ -213,9 +257,9 @@ impl Kss {
         outer.push(k);
         Ok(Outcome {
             kind: if p.is_omega() || d.is_omega() || q.is_omega() || r.is_omega() {
-                "hull_flip"
+                EventKind::HullFlip
             } else {
-                "flip"
+                EventKind::Flip
             },
             tris: vec![t1, t2],
             corrs: outer,
@@ -228,7 +272,7 @@ impl Kss {
         tri: TriId,
         ci: usize,
         to: Att,
-        kind: &'static str,
+        kind: EventKind,
     ) -> Result<Outcome, String> {
         self.corner_slide(world, tri, ci, to)?;
         Ok(Outcome {
@@ -304,13 +348,13 @@ impl Kss {
             && cbb1 == Sign::Positive
             && (b1 == c1 || c1cb == Sign::Negative || tn(c, b1, c1) == Sign::Positive)
         {
-            return self.corner_slide_outcome(world, tri, (m + 1) % 3, b1, "ear_slide");
+            return self.corner_slide_outcome(world, tri, (m + 1) % 3, b1, EventKind::EarSlide);
         }
         if c1 == step_ccw(world, c)
             && c1cb == Sign::Positive
             && (b1 == c1 || cbb1 == Sign::Negative || tn(b, b1, c1) == Sign::Positive)
         {
-            return self.corner_slide_outcome(world, tri, (m + 2) % 3, c1, "ear_slide");
+            return self.corner_slide_outcome(world, tri, (m + 2) % 3, c1, EventKind::EarSlide);
         }
         Err(format!(
             "triangle {} = {corners:?} collapses ({middle:?} in the middle) onto corridor {kc:?} \
@@ -349,10 +393,16 @@ impl Kss {
             self.flip(c.s.0, c.s.1 as usize)
         } else if x == a_s {
             let ci = self.tri_index(c.s.0, a_s)?;
-            self.corner_slide_outcome(world, c.s.0, ci, step_cw(world, a_s, 1), "hull_slide")
+            self.corner_slide_outcome(
+                world,
+                c.s.0,
+                ci,
+                step_cw(world, a_s, 1),
+                EventKind::HullSlide,
+            )
         } else {
             let ci = self.tri_index(c.t.0, a_t)?;
-            self.corner_slide_outcome(world, c.t.0, ci, step_ccw(world, a_t), "hull_slide")
+            self.corner_slide_outcome(world, c.t.0, ci, step_ccw(world, a_t), EventKind::HullSlide)
         }
     }
 
@@ -463,7 +513,7 @@ impl Kss {
                 };
                 self.corrs[ki].mid = Some(m);
                 Ok(Outcome {
-                    kind: "mid_slide",
+                    kind: EventKind::MidSlide,
                     tris: vec![],
                     corrs: vec![k],
                 })
@@ -471,7 +521,7 @@ impl Kss {
             EdgeRef::EndS | EdgeRef::EndT if onto => {
                 let tri = if e == EdgeRef::EndS { c.s.0 } else { c.t.0 };
                 let ci = self.tri_index(tri, from)?;
-                self.corner_slide_outcome(world, tri, ci, to, "end_slide")
+                self.corner_slide_outcome(world, tri, ci, to, EventKind::EndSlide)
             }
             EdgeRef::EndS | EdgeRef::EndT => {
                 // a corner of the corridor turned convex: the thin middle
@@ -489,7 +539,7 @@ impl Kss {
                 };
                 self.corrs[ki].mid = Some(m);
                 Ok(Outcome {
-                    kind: "insert_mid",
+                    kind: EventKind::InsertMid,
                     tris: vec![],
                     corrs: vec![k],
                 })

@@ -9,9 +9,9 @@
 use std::collections::BTreeSet;
 
 use super::certs::CertKind;
-use super::engine::Kinetic;
 use super::faces::step_cw;
 use super::geo::Geo;
+use super::kinetic::Kinetic;
 use super::{Att, CorrId, Obj};
 use crate::num::{Rational, Time};
 

@@ -1,301 +1,21 @@
-//! The engines that find collisions: the brute-force reference and the
-//! kinetic structure (plain or hierarchical), behind one trait that the
-//! [`crate::simulation::Simulation`] drives. An engine only finds *when* and
-//! *which* polygons collide; the [`World`] holds the motions.
+//! The kinetic structure as a collision finder: it drives
+//! [`crate::structure::kinetic::Kinetic`] event by event, and decides what
+//! the structure cannot decide alone: refining the hierarchy where
+//! approximations touch and coarsening it after, the guard against a contact
+//! that keeps failing, the local repair or rebuild at a degenerate instant,
+//! and the reference standing in while polygons rest in contact.
 
 use std::collections::BTreeMap;
 
+use super::brute::BruteEngine;
+use super::{world_time, Collisions, Finder, RunError};
 use crate::brute::{Brute, PairMethod};
 use crate::num::{Rational, Time};
-use crate::scenario::ScenarioError;
-use crate::structure::engine::{Kinetic, Step};
 use crate::structure::geo::{Geo, Shapes};
+use crate::structure::kinetic::{Kinetic, Rebuild, Step};
+use crate::structure::ops::EventKind;
 use crate::structure::{refine, Att, Obj};
 use crate::world::{BodyId, World};
-
-/// Debug output for `--features trace` builds only.
-macro_rules! trace {
-    ($($arg:tt)*) => {
-        #[cfg(feature = "trace")]
-        eprintln!($($arg)*);
-    };
-}
-
-/// Which kinetic structure computes the collisions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
-pub enum StructureKind {
-    /// The separation-sensitive hierarchical structure (the default): the
-    /// kinetic separation structure on outer approximations of the polygons
-    /// of more than [`crate::RunOptions::approximate_above`] vertices, the
-    /// others as they are.
-    #[default]
-    Hierarchical,
-    /// The kinetic separation structure without the hierarchy.
-    Plain,
-    /// All-pairs exact time of impact: the reference.
-    Brute,
-}
-
-impl StructureKind {
-    /// The contract's name (`"hierarchical"`, `"plain"`, `"brute"`).
-    pub fn name(self) -> &'static str {
-        match self {
-            StructureKind::Hierarchical => "hierarchical",
-            StructureKind::Plain => "plain",
-            StructureKind::Brute => "brute",
-        }
-    }
-}
-
-/// Why a run could not complete.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    /// The scenario is invalid.
-    #[error(transparent)]
-    Invalid(#[from] ScenarioError),
-    /// The requested structure is not available yet.
-    #[error("structure `{0}` is not implemented yet; use --structure brute")]
-    NotImplemented(&'static str),
-    /// A polygon inserted during the run touches or overlaps a polygon in
-    /// the scene at its insertion time (checked during the run: presence
-    /// can depend on earlier collisions).
-    #[error("polygon {inserted:?}, inserted at t = {time}, touches or overlaps polygon {present:?}, which is in the scene then; insert it elsewhere or at another time")]
-    InsertionTouches {
-        /// The inserted polygon.
-        inserted: String,
-        /// The present polygon it meets.
-        present: String,
-        /// The insertion time.
-        time: f64,
-    },
-    /// A collision finder other than the built-in ones gave up (for
-    /// example, a benchmark's time budget ran out).
-    #[error("the collision finder gave up: {0}")]
-    Aborted(String),
-    /// A broken invariant: a bug in kss.
-    #[error("internal error (a bug in kss, please report it): {0}")]
-    Internal(String),
-}
-
-/// The earliest collision instant and the pairs colliding then.
-pub type Collisions = Option<(Time, Vec<(BodyId, BodyId)>)>;
-
-/// An exact collision finder that a [`crate::Simulation`] drives: the
-/// built-in structures (brute force, plain, hierarchical) and any other
-/// finder (the benchmark's exact baselines plug in through it, see
-/// [`crate::Simulation::with_finder`]). The simulation owns the [`World`]
-/// (the motions) and calls the finder in time order: `next_collisions`
-/// with a limit at or after every earlier call's, then, at the instant of
-/// the collisions or at the limit, `update` or `insert` for every change
-/// the caller makes there.
-pub trait Finder {
-    /// Process internal events up to the earliest collision time at most
-    /// `limit`; return that time and every pair colliding then.
-    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError>;
-    /// The world changed at `now`: `bodies` changed trajectory or were
-    /// removed; `reported` were just reported as colliding.
-    fn update(
-        &mut self,
-        world: &World,
-        now: &Time,
-        bodies: &[BodyId],
-        reported: &[(BodyId, BodyId)],
-    ) -> Result<(), RunError>;
-    /// The time of the next internal event, if any (for choosing audit instants).
-    fn next_time(&self) -> Option<Time>;
-    /// Check every invariant at the rational instant `at` (strictly between
-    /// events; `now` is the last event time). None by default.
-    fn audit(&self, _world: &World, _now: &Time, _at: &Rational) -> Result<(), String> {
-        Ok(())
-    }
-    /// Work counters by name, for the statistics ([`crate::RunStats::work`]).
-    fn work(&self) -> BTreeMap<String, u64> {
-        BTreeMap::new()
-    }
-    /// Body `b` entered the world at `now`; it touches no alive body then.
-    fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError>;
-    /// Active certificates now and at most.
-    fn certificates(&self) -> (u64, u64);
-    /// Internal events by kind.
-    fn internal_events(&self) -> BTreeMap<String, u64>;
-    /// Times the structure was rebuilt from scratch: after removals, and at
-    /// degenerate instants, and when a pop could not be done in place.
-    fn rebuilds(&self) -> (u64, u64, u64) {
-        (0, 0, 0)
-    }
-    /// Times the structure was built again for an inserted polygon.
-    fn insert_rebuilds(&self) -> u64 {
-        0
-    }
-    /// Polygons inserted in place.
-    fn local_insertions(&self) -> u64 {
-        0
-    }
-    /// Approximation vertices merged away (coarsening).
-    fn merges(&self) -> u64 {
-        0
-    }
-    /// Polygons removed in place.
-    fn local_removals(&self) -> u64 {
-        0
-    }
-    /// Degenerate instants repaired by a local retriangulation.
-    fn local_repairs(&self) -> u64 {
-        0
-    }
-
-    /// Times the reference stood in for the structure, and times the
-    /// structure took over again.
-    fn stand_ins(&self) -> (u64, u64) {
-        (0, 0)
-    }
-}
-
-/// The world's current time, which is always rational (updates happen at
-/// collision and flight-plan instants).
-fn world_time(now: &Time) -> Result<&Rational, RunError> {
-    now.as_rational()
-        .ok_or_else(|| RunError::Internal("irrational world time".into()))
-}
-
-struct BruteEngine(Brute);
-
-impl Finder for BruteEngine {
-    fn next_collisions(&mut self, _world: &World, limit: &Time) -> Result<Collisions, RunError> {
-        Ok(self.0.next_collisions(limit))
-    }
-
-    fn update(
-        &mut self,
-        world: &World,
-        now: &Time,
-        bodies: &[BodyId],
-        reported: &[(BodyId, BodyId)],
-    ) -> Result<(), RunError> {
-        let now = world_time(now)?;
-        self.0.update(world, now, bodies, reported);
-        Ok(())
-    }
-
-    fn next_time(&self) -> Option<Time> {
-        self.0.next_time().cloned()
-    }
-
-    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
-        let now = now.as_rational().ok_or("irrational world time")?;
-        self.0.audit(world, now, at)
-    }
-
-    fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
-        let now = world_time(now)?;
-        self.0.update(world, now, &[b], &[]);
-        Ok(())
-    }
-
-    fn certificates(&self) -> (u64, u64) {
-        (self.0.queued() as u64, self.0.max_queued() as u64)
-    }
-
-    fn internal_events(&self) -> BTreeMap<String, u64> {
-        BTreeMap::new()
-    }
-}
-
-pub(crate) fn make_engine(world: &World, options: &crate::SimOptions) -> Result<Backend, RunError> {
-    let audit = options.audit;
-    match options.structure {
-        StructureKind::Brute => Ok(Backend::Other(Box::new(BruteEngine(Brute::new(
-            world,
-            options.pair_method,
-        ))))),
-        StructureKind::Plain => Ok(Backend::Kinetic(Box::new(KineticEngine::new(
-            world, audit, false, 0,
-        )?))),
-        StructureKind::Hierarchical => Ok(Backend::Kinetic(Box::new(KineticEngine::new(
-            world,
-            audit,
-            true,
-            options.approximate_above,
-        )?))),
-    }
-}
-
-/// The finder of a simulation: the kinetic structure (kept by type, for
-/// pictures of it) or any other.
-pub(crate) enum Backend {
-    Kinetic(Box<KineticEngine>),
-    Other(Box<dyn Finder>),
-}
-
-impl Backend {
-    fn get(&self) -> &dyn Finder {
-        match self {
-            Backend::Kinetic(k) => k.as_ref(),
-            Backend::Other(f) => f.as_ref(),
-        }
-    }
-
-    fn get_mut(&mut self) -> &mut dyn Finder {
-        match self {
-            Backend::Kinetic(k) => k.as_mut(),
-            Backend::Other(f) => f.as_mut(),
-        }
-    }
-}
-
-impl Finder for Backend {
-    fn next_collisions(&mut self, world: &World, limit: &Time) -> Result<Collisions, RunError> {
-        self.get_mut().next_collisions(world, limit)
-    }
-    fn update(
-        &mut self,
-        world: &World,
-        now: &Time,
-        bodies: &[BodyId],
-        reported: &[(BodyId, BodyId)],
-    ) -> Result<(), RunError> {
-        self.get_mut().update(world, now, bodies, reported)
-    }
-    fn next_time(&self) -> Option<Time> {
-        self.get().next_time()
-    }
-    fn audit(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
-        self.get().audit(world, now, at)
-    }
-    fn work(&self) -> BTreeMap<String, u64> {
-        self.get().work()
-    }
-    fn insert(&mut self, world: &World, now: &Time, b: BodyId) -> Result<(), RunError> {
-        self.get_mut().insert(world, now, b)
-    }
-    fn certificates(&self) -> (u64, u64) {
-        self.get().certificates()
-    }
-    fn internal_events(&self) -> BTreeMap<String, u64> {
-        self.get().internal_events()
-    }
-    fn rebuilds(&self) -> (u64, u64, u64) {
-        self.get().rebuilds()
-    }
-    fn insert_rebuilds(&self) -> u64 {
-        self.get().insert_rebuilds()
-    }
-    fn local_insertions(&self) -> u64 {
-        self.get().local_insertions()
-    }
-    fn merges(&self) -> u64 {
-        self.get().merges()
-    }
-    fn local_removals(&self) -> u64 {
-        self.get().local_removals()
-    }
-    fn local_repairs(&self) -> u64 {
-        self.get().local_repairs()
-    }
-    fn stand_ins(&self) -> (u64, u64) {
-        self.get().stand_ins()
-    }
-}
 
 /// The kinetic separation structure, on the polygons (`plain`) or on their
 /// hierarchical outer approximations (`hierarchical`).
@@ -441,7 +161,7 @@ impl KineticEngine {
         }
         let mut k = k.map_err(RunError::Internal)?;
         if pops > 0 {
-            *k.counts.entry("initial_pop").or_default() += pops;
+            k.tally.events(EventKind::InitialPop, pops);
         }
         Ok(KineticEngine {
             k,
@@ -561,7 +281,7 @@ impl KineticEngine {
             }
         }
         let local = pops_in.local;
-        *self.k.counts.entry("pop").or_default() += pops;
+        self.k.tally.events(EventKind::Pop, pops);
         let geo = Geo {
             world,
             shapes: &self.shapes,
@@ -572,10 +292,10 @@ impl KineticEngine {
             }
         } else if after_response {
             self.k
-                .rebuild_after_response("refine_rebuild", (&bodies, triples));
+                .rebuild_after_response(Rebuild::Refine, (&bodies, triples));
         } else {
             self.k
-                .rebuild_after(&geo, t, "refine_rebuild")
+                .rebuild_after(&geo, t, Rebuild::Refine)
                 .map_err(RunError::Internal)?;
         }
         Ok(())
@@ -677,7 +397,7 @@ impl KineticEngine {
         }
         let local = pops_in.local;
         if pops > 0 {
-            *self.k.counts.entry("pop").or_default() += pops;
+            self.k.tally.events(EventKind::Pop, pops);
         }
         if !local {
             let geo = Geo {
@@ -689,7 +409,7 @@ impl KineticEngine {
             bodies.dedup();
             if !self.k.repair_refined(&geo, &bodies, &[], t) {
                 self.k
-                    .rebuild_after(&geo, t, "refine_rebuild")
+                    .rebuild_after(&geo, t, Rebuild::Refine)
                     .map_err(RunError::Internal)?;
             }
         }
@@ -751,7 +471,7 @@ impl KineticEngine {
             brute: BruteEngine(brute),
             resting: resting.into_iter().collect(),
         });
-        *self.k.counts.entry("stand_in").or_default() += 1;
+        self.k.tally.stand_ins += 1;
         Ok(())
     }
 
@@ -781,7 +501,7 @@ impl KineticEngine {
             world,
             shapes: &shapes,
         };
-        match self.k.rebuild_after(&geo, now, "stand_in_end") {
+        match self.k.rebuild_after(&geo, now, Rebuild::StandInEnd) {
             Ok(()) => {
                 self.shapes = shapes;
                 if let Some(s) = self.stand_in.take() {
@@ -824,9 +544,9 @@ impl KineticEngine {
                 world,
                 shapes: &shapes,
             };
-            match self.k.rebuild_after(&geo, t, "refine_rebuild") {
+            match self.k.rebuild_after(&geo, t, Rebuild::Refine) {
                 Ok(()) => {
-                    *self.k.counts.entry("pop").or_default() += total;
+                    self.k.tally.events(EventKind::Pop, total);
                     self.shapes = shapes;
                     return true;
                 }
@@ -933,65 +653,48 @@ impl Finder for KineticEngine {
     }
 
     fn internal_events(&self) -> BTreeMap<String, u64> {
-        // `repair` (a normalization that had to search), `rebuild` (after a
-        // removal) and `degenerate_rebuild` are not certificate failures:
-        // not counted as events (see `rebuilds`)
+        // searches, rebuilds, local repairs, merges and stand-ins are not
+        // certificate failures: not counted as events (see `rebuilds`)
         self.k
-            .counts
+            .tally
+            .events
             .iter()
-            .filter(|(k, _)| {
-                !matches!(
-                    **k,
-                    "repair"
-                        | "rebuild"
-                        | "insert_rebuild"
-                        | "degenerate_rebuild"
-                        | "refine_rebuild"
-                        | "local_pop"
-                        | "local_remove"
-                        | "local_insert"
-                        | "local_repair"
-                        | "merge"
-                        | "stand_in"
-                        | "stand_in_end"
-                )
-            })
-            .map(|(k, v)| (k.to_string(), *v))
+            .map(|(k, v)| (k.name().to_string(), *v))
             .collect()
     }
 
     fn rebuilds(&self) -> (u64, u64, u64) {
-        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
+        let t = &self.k.tally;
         (
-            get("rebuild"),
-            get("degenerate_rebuild"),
-            get("refine_rebuild"),
+            t.rebuilds(Rebuild::Removal),
+            t.rebuilds(Rebuild::Degenerate),
+            t.rebuilds(Rebuild::Refine),
         )
     }
 
     fn insert_rebuilds(&self) -> u64 {
-        self.k.counts.get("insert_rebuild").copied().unwrap_or(0)
+        self.k.tally.rebuilds(Rebuild::Insertion)
     }
 
     fn local_insertions(&self) -> u64 {
-        self.k.counts.get("local_insert").copied().unwrap_or(0)
+        self.k.tally.local_insertions
     }
 
     fn merges(&self) -> u64 {
-        self.k.counts.get("merge").copied().unwrap_or(0)
+        self.k.tally.merges
     }
 
     fn local_removals(&self) -> u64 {
-        self.k.counts.get("local_remove").copied().unwrap_or(0)
+        self.k.tally.local_removals
     }
 
     fn local_repairs(&self) -> u64 {
-        self.k.counts.get("local_repair").copied().unwrap_or(0)
+        self.k.tally.local_repairs
     }
 
     fn stand_ins(&self) -> (u64, u64) {
-        let get = |k: &str| self.k.counts.get(k).copied().unwrap_or(0);
-        (get("stand_in"), get("stand_in_end"))
+        let t = &self.k.tally;
+        (t.stand_ins, t.rebuilds(Rebuild::StandInEnd))
     }
 }
 
@@ -1104,7 +807,7 @@ impl KineticEngine {
                             // half changed: the whole structure is rebuilt)
                             if !self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)? {
                                 self.k
-                                    .rebuild_after(&geo, &t, "degenerate_rebuild")
+                                    .rebuild_after(&geo, &t, Rebuild::Degenerate)
                                     .map_err(RunError::Internal)?;
                                 rebuilt_now = true;
                             }
@@ -1131,7 +834,7 @@ impl KineticEngine {
                                 repaired_cycle_now = true;
                                 if !repaired {
                                     self.k
-                                        .rebuild_after(&geo, &t, "degenerate_rebuild")
+                                        .rebuild_after(&geo, &t, Rebuild::Degenerate)
                                         .map_err(RunError::Internal)?;
                                     rebuilt_now = true;
                                 }
@@ -1239,7 +942,7 @@ impl KineticEngine {
             shapes: &shapes,
         };
         self.k
-            .rebuild_after(&geo, now, "insert_rebuild")
+            .rebuild_after(&geo, now, Rebuild::Insertion)
             .map_err(RunError::Internal)?;
         self.shapes = shapes;
         Ok(())
@@ -1296,10 +999,10 @@ impl KineticEngine {
                 // of the instant has been reported before the response
                 if let Err(_e) = self.k.rebuild(&geo, t) {
                     self.k
-                        .rebuild_after(&geo, now, "degenerate_rebuild")
+                        .rebuild_after(&geo, now, Rebuild::Degenerate)
                         .map_err(|r| RunError::Internal(format!("{_e}; then {r}")))?;
                 }
-                *self.k.counts.entry("rebuild").or_default() += 1;
+                self.k.tally.rebuilt(Rebuild::Removal);
             }
         } else {
             let geo = Geo {
@@ -1356,31 +1059,4 @@ fn add_pairs(pairs: &mut Vec<(BodyId, BodyId)>, new: Vec<(BodyId, BodyId)>) {
             pairs.push(p);
         }
     }
-}
-
-/// Audit at a rational instant strictly after `now` and before the next event.
-pub(crate) fn audit(
-    world: &World,
-    engine: &dyn Finder,
-    now: &Time,
-    end: &Time,
-) -> Result<(), RunError> {
-    let mut next = end.clone();
-    for t in [engine.next_time(), world.next_change_time().cloned()]
-        .into_iter()
-        .flatten()
-    {
-        if t < next {
-            next = t;
-        }
-    }
-    if *now >= next {
-        // Another event is due at this very instant (audit once it is done),
-        // or the run ends here (nothing after `until` is simulated).
-        return Ok(());
-    }
-    let at = now.rational_between(&next);
-    engine
-        .audit(world, now, &at)
-        .map_err(|e| RunError::Internal(format!("audit failed after t = {now}: {e}")))
 }

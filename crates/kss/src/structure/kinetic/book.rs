@@ -1,0 +1,512 @@
+//! The certificate book and the event queue: each certificate's failure
+//! function and exact failure time (f64 filter first, exact roots on a
+//! tie), its owners (the partition triangles and corridors it certifies),
+//! and the scheduling, rescheduling and dropping of certificates as the
+//! structure changes.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::motion::{orient_poly, LinearPoint};
+use crate::num::{
+    filtered_failure, filtered_root, ExactTime, Filtered, Interval, Poly, Sign, Time,
+};
+use crate::sim::EventKey;
+use crate::structure::certs::Cert;
+use crate::structure::geo::{Geo, PointRef};
+use crate::structure::ops::Owner;
+use crate::structure::{Att, CorrId, Obj, TriId};
+use crate::world::BodyId;
+
+use super::step::bodies_of;
+use super::{due_time, fingerprint, Fingerprint, Kinetic, Scheduled};
+
+/// The certificate function of `c`, oriented so that it is positive while
+/// the certificate holds.
+pub fn cert_poly(world: &Geo, c: &Cert) -> Poly {
+    let lp = |a: Att| match a.obj {
+        Obj::Body(_) => world.point(a),
+        Obj::Omega => unreachable!("certificates have finite points"),
+    };
+    cert_poly_of(c.kind, c.sign, &c.p.map(lp))
+}
+
+/// [`cert_poly`] from the certificate's three moving points.
+pub(super) fn cert_poly_of(
+    kind: crate::structure::certs::CertKind,
+    sign: Sign,
+    p: &[LinearPoint; 3],
+) -> Poly {
+    if kind == crate::structure::certs::CertKind::Order {
+        return crate::motion::dot_poly(&p[1], &p[0], &p[2]).neg();
+    }
+    let q = orient_poly(&p[0], &p[1], &p[2]);
+    if sign == Sign::Negative {
+        q.neg()
+    } else {
+        q
+    }
+}
+
+/// Enclosures of the coefficients of a positive multiple of [`cert_poly`]
+/// (an enclosure `[0, 0]` where the coefficient is exactly zero because two
+/// of the points are on one body), from the f64 view of the points.
+pub(super) fn cert_enclosure(world: &Geo, c: &Cert) -> Option<[Interval; 3]> {
+    use crate::geom::Mr;
+    let order = c.kind == crate::structure::certs::CertKind::Order;
+    // the same points as cert_poly: Order is −(p0 − p1)·(p2 − p1)
+    let [p, q, r] = if order { [c.p[1], c.p[0], c.p[2]] } else { c.p };
+    // (midpoint–radius arithmetic: a few products per operation and no
+    // branch, where intervals take the extreme products by cases)
+    let [ep, eq, er] = [
+        world.linear_mr(p)?,
+        world.linear_mr(q)?,
+        world.linear_mr(r)?,
+    ];
+    // q − p as linear positions; the velocity part is exactly zero for two
+    // points of one body
+    let diff = |a: Att, ea: &[Mr; 4], b: Att, eb: &[Mr; 4]| {
+        let same = a.obj == b.obj;
+        [
+            eb[0] - ea[0],
+            if same { Mr::ZERO } else { eb[1] - ea[1] },
+            eb[2] - ea[2],
+            if same { Mr::ZERO } else { eb[3] - ea[3] },
+        ]
+    };
+    let [ux0, ux1, uy0, uy1] = diff(p, &ep, q, &eq);
+    let [vx0, vx1, vy0, vy1] = diff(p, &ep, r, &er);
+    let same_qr = q.obj == r.obj;
+    // (a sum with an exact zero is the other term, exactly)
+    let plus = |a: Mr, b: Mr| {
+        if a.is_zero() {
+            b
+        } else if b.is_zero() {
+            a
+        } else {
+            a + b
+        }
+    };
+    let mut e = if order {
+        [
+            plus(ux0 * vx0, uy0 * vy0),
+            plus(plus(ux0 * vx1, ux1 * vx0), plus(uy0 * vy1, uy1 * vy0)),
+            plus(ux1 * vx1, uy1 * vy1),
+        ]
+    } else {
+        [
+            plus(ux0 * vy0, -(uy0 * vx0)),
+            plus(plus(ux0 * vy1, ux1 * vy0), -plus(uy0 * vx1, uy1 * vx0)),
+            // u and v move alike when q and r are on one body
+            if same_qr {
+                Mr::ZERO
+            } else {
+                plus(ux1 * vy1, -(uy1 * vx1))
+            },
+        ]
+    };
+    if order || c.sign == Sign::Negative {
+        e = e.map(|x| -x);
+    }
+    Some(e.map(Mr::interval))
+}
+
+/// A deferred failure time's exact computation: the certificate's three
+/// points with the frames they moved by when it was scheduled.
+struct DeferredFailure {
+    p: [PointRef; 3],
+    kind: crate::structure::certs::CertKind,
+    sign: Sign,
+}
+
+impl ExactTime for DeferredFailure {
+    fn exact(&self) -> Time {
+        cert_poly_of(
+            self.kind,
+            self.sign,
+            &self.p.each_ref().map(PointRef::linear),
+        )
+        .failure_root()
+        .expect("the filter proved that the certificate fails")
+    }
+}
+
+/// When certificate `c` fails, given that `now` is the current time: `now`
+/// itself if it is already wrong just after `now`, else the first later root
+/// where it stops being positive, if any.
+pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
+    use crate::structure::counters::{bump, Counter};
+    bump(Counter::FailureTimes);
+    // (`None` only if a point is no vertex of its body's approximation,
+    // which the enclosures already rule out)
+    let deferred = |iv: Interval| -> Option<Time> {
+        let [a, b, d] = c.p.map(|x| world.point_ref(x));
+        let src = DeferredFailure {
+            p: [a?, b?, d?],
+            kind: c.kind,
+            sign: c.sign,
+        };
+        Some(Time::deferred(iv, src))
+    };
+    let e = cert_enclosure(world, c);
+    if let Some(e) = e {
+        match filtered_failure(e, now.interval()) {
+            Filtered::Never => return None,
+            Filtered::At(iv) => {
+                if let Some(t) = deferred(iv) {
+                    return Some(t);
+                }
+            }
+            Filtered::Unsure => {}
+        }
+    }
+    // the sign just after `now` of an orientation certificate (most often
+    // zero at `now`: its points were collinear at this event) from the
+    // instant's memo of exact turns, when it knows it
+    let orient = c.kind != crate::structure::certs::CertKind::Order;
+    let signed = |s: Sign| if c.sign == Sign::Negative { s.neg() } else { s };
+    let known = if orient {
+        world.memo_peek(c.p, now, true).map(signed)
+    } else {
+        None
+    };
+    match (known, e) {
+        (Some(Sign::Negative), _) => {
+            bump(Counter::FailureTimesMemo);
+            return Some(now.clone());
+        }
+        (Some(Sign::Positive), Some(e)) => match filtered_root(e, now.interval()) {
+            Filtered::Never => {
+                bump(Counter::FailureTimesMemo);
+                return None;
+            }
+            Filtered::At(iv) => {
+                if let Some(t) = deferred(iv) {
+                    bump(Counter::FailureTimesMemo);
+                    return Some(t);
+                }
+            }
+            Filtered::Unsure => {}
+        },
+        _ => {}
+    }
+    bump(Counter::FailureTimesExact);
+    let p = cert_poly(world, c);
+    let after = p.sign_after(now);
+    if orient && known.is_none() {
+        world.memo_record(c.p, now, true, signed(after));
+    }
+    if after != Sign::Positive {
+        // (a partition triangle flat while two of its corners rest on each
+        // other holds until a motion change parts them)
+        if resting_flat(world, c, &p) {
+            return None;
+        }
+        return Some(now.clone());
+    }
+    p.failure_after_positive(now)
+}
+
+/// Whether certificate `c`, whose polynomial is `p`, is a partition
+/// triangle that stays flat while two of its corners rest on each other
+/// ([`crate::structure::faces::flat_while_resting`]): it holds until a motion change
+/// parts them.
+pub(super) fn resting_flat(world: &Geo, c: &Cert, p: &Poly) -> bool {
+    p.is_zero()
+        && c.kind == crate::structure::certs::CertKind::Triangle
+        && crate::structure::faces::flat_while_resting(world, c.p)
+}
+
+/// Whether certificate `c` is already wrong just after `now` (it fails at
+/// `now`).
+pub(super) fn is_failing(world: &Geo, c: &Cert, now: &Time) -> bool {
+    cert_poly(world, c).sign_after(now) != Sign::Positive
+}
+
+/// [`is_failing`] for a certificate that is due at `now` (queued at `now`,
+/// or popped at `now`): known without arithmetic while its points are the
+/// ones its failure time `due` was computed for (see [`Scheduled::fp`]),
+/// evaluated exactly otherwise.
+pub(super) fn due_is_failing(
+    world: &Geo,
+    c: &Cert,
+    (fp, due): (Option<&(Fingerprint, bool)>, Option<&Time>),
+    now: &Time,
+) -> bool {
+    if let (Some(&(f, root)), Some(at)) = (fp, due) {
+        if Some(f) == fingerprint(world, &c.p) && at.is_known_same(now) {
+            crate::structure::counters::bump(crate::structure::counters::Counter::FailingKnown);
+            // (a failure root: negative just after it; the instant's memo
+            // of turns learns that for the orientation)
+            if root && c.kind != crate::structure::certs::CertKind::Order {
+                let s = if c.sign == Sign::Negative {
+                    Sign::Positive
+                } else {
+                    Sign::Negative
+                };
+                world.memo_record(c.p, now, true, s);
+            }
+            return true;
+        }
+    }
+    is_failing(world, c, now)
+}
+
+/// Order among failures at one instant: a vertex against another body's
+/// polygon edge (a possible contact) comes first, so that every contact of an
+/// instant is known before the structure changes around it.
+pub(super) fn tie(world: &Geo, p: &[Att; 3]) -> u64 {
+    let possible_contact = (0..3).any(|i| {
+        let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
+        z.obj != x.obj && crate::structure::faces::poly_edge(world, x, y)
+    });
+    u64::from(!possible_contact)
+}
+
+impl Kinetic {
+    pub(super) fn schedule_everything(&mut self, world: &Geo, now: &Time) -> Result<(), String> {
+        self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
+        self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
+        for ki in 0..self.kss.corrs.len() {
+            let steps = self.kss.normalize(world, CorrId(ki as u32), now, None)?;
+            if steps > 0 {
+                self.tally.searches += 1;
+            }
+        }
+        for ti in 0..self.kss.tris.len() {
+            self.refresh(world, Owner::Tri(TriId(ti as u32)), now)?;
+        }
+        for ki in 0..self.kss.corrs.len() {
+            self.refresh(world, Owner::Corr(CorrId(ki as u32)), now)?;
+        }
+        Ok(())
+    }
+
+    /// Recompute the certificates owned by `o` at `now`: drop the ones it no
+    /// longer owns, schedule the new ones.
+    pub(super) fn refresh(&mut self, world: &Geo, o: Owner, now: &Time) -> Result<(), String> {
+        let fresh = match o {
+            Owner::Tri(t) => self.kss.triangle_certs(t),
+            Owner::Corr(k) => self.kss.corridor_certs(world, k, now),
+        };
+        let old = match o {
+            Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
+            Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
+        };
+        // certificates that fail at `now` and have not been handled yet keep
+        // their sign (and stay due now): recomputing them with the sign they
+        // have just after `now` would swallow the failure when two fail at
+        // one instant and the operation for the first touches the second
+        let mut pending: BTreeMap<[Att; 3], Cert> = BTreeMap::new();
+        let mut kept: Vec<[Att; 3]> = Vec::new();
+        for p in &old {
+            let Some(s) = self.certs.get_mut(p) else {
+                continue;
+            };
+            s.owners.retain(|&x| x != o);
+            if s.owners.is_empty() {
+                let (cert, key, fp) = (s.cert, s.key, s.fp.as_deref().copied());
+                let at = due_time(&self.queue, key, &s.popped).cloned();
+                let due = self.handling == Some(*p) || self.due_now(p, key, now);
+                if !due && fresh.contains(&cert) {
+                    // the same certificate again, not due at this instant:
+                    // it keeps its place in the queue (its failure time
+                    // depends only on its points) and is owned again below
+                    kept.push(*p);
+                    continue;
+                }
+                if self.handling != Some(*p)
+                    && due
+                    && due_is_failing(world, &cert, (fp.as_ref(), at.as_ref()), now)
+                {
+                    pending.insert(*p, cert);
+                }
+                self.drop_cert(p);
+            }
+        }
+        let mut mine = Vec::with_capacity(fresh.len());
+        for c in fresh {
+            let c = match pending.get(&c.p) {
+                Some(old) if old.sign != c.sign => *old,
+                _ => c,
+            };
+            match self.certs.get_mut(&c.p) {
+                // a certificate left without owners (a removal in progress)
+                // is taken over only as it is
+                Some(s) if s.owners.is_empty() && s.cert != c => {
+                    self.drop_cert(&c.p);
+                    self.schedule_new(world, c, o, now);
+                }
+                Some(s) if s.cert.sign != c.sign => {
+                    if self.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
+                        let e = format!(
+                            "contradictory certificates on {:?} ({:?} and {:?})",
+                            c.p, s.owners, o
+                        );
+                        // no owner list names the certificates kept above
+                        // any more: they go, as they did before keeping
+                        for p in &kept {
+                            if self.certs.get(p).is_some_and(|s| s.owners.is_empty()) {
+                                self.drop_cert(p);
+                            }
+                        }
+                        return Err(e);
+                    }
+                    // the kept certificate fails now and will be handled
+                    if !s.owners.contains(&o) {
+                        s.owners.push(o);
+                    }
+                }
+                Some(s) => {
+                    if !s.owners.contains(&o) {
+                        s.owners.push(o);
+                    }
+                }
+                None => self.schedule_new(world, c, o, now),
+            }
+            mine.push(c.p);
+        }
+        match o {
+            Owner::Tri(t) => self.owned_tri[t.0 as usize] = mine,
+            Owner::Corr(k) => self.owned_corr[k.0 as usize] = mine,
+        }
+        self.max_active = self.max_active.max(self.queue.len());
+        Ok(())
+    }
+
+    /// Queue certificate `c` at its failure time after `now`, if it has
+    /// one: its queue key and [`Scheduled::fp`].
+    pub(super) fn enqueue(
+        &mut self,
+        world: &Geo,
+        c: &Cert,
+        now: &Time,
+    ) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
+        let Some(t) = failure_time(world, c, now) else {
+            return (None, None);
+        };
+        let root = !t.is_known_same(now);
+        let fp = fingerprint(world, &c.p).map(|f| Box::new((f, root)));
+        (Some(self.queue.schedule(t, tie(world, &c.p), c.p)), fp)
+    }
+
+    /// Schedule certificate `c`, not yet known, for owner `o`.
+    pub(super) fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) {
+        let (key, fp) = self.enqueue(world, &c, now);
+        for b in bodies_of(&c.p) {
+            self.by_body.entry(b).or_default().insert(c.p);
+        }
+        self.certs.insert(
+            c.p,
+            Scheduled {
+                cert: c,
+                key,
+                owners: vec![o],
+                fp,
+                popped: None,
+            },
+        );
+    }
+
+    /// Whether the certificate on `p` (queued under `key`) can be failing at
+    /// `now`: queued at `now`, or popped at this instant and set aside. A
+    /// failing certificate is always one of these, so the exact test need not
+    /// run for the others (most of the certificates an operation replaces).
+    pub(super) fn due_now(&self, p: &[Att; 3], key: Option<EventKey>, now: &Time) -> bool {
+        match key {
+            Some(k) => self.queue.get(k).is_some_and(|(t, _)| t == now),
+            None => {
+                self.waiting.contains(p)
+                    || self.later.as_ref().is_some_and(|(_, ps)| ps.contains(p))
+            }
+        }
+    }
+
+    pub(super) fn drop_cert(&mut self, p: &[Att; 3]) {
+        if let Some(s) = self.certs.remove(p) {
+            for b in bodies_of(p) {
+                if let Some(set) = self.by_body.get_mut(&b) {
+                    set.remove(p);
+                }
+            }
+            if let Some(k) = s.key {
+                self.queue.cancel(k);
+            }
+        }
+    }
+
+    pub(super) fn reschedule(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
+        let Some(s) = self.certs.get_mut(p) else {
+            return;
+        };
+        let (c, old) = (s.cert, s.key.take());
+        if let Some(k) = old {
+            self.queue.cancel(k);
+        }
+        let (key, fp) = self.enqueue(world, &c, now);
+        if let Some(s) = self.certs.get_mut(p) {
+            (s.key, s.fp, s.popped) = (key, fp, None);
+        }
+        self.max_active = self.max_active.max(self.queue.len());
+    }
+
+    /// The certificates on body `b` that name one of `ids`.
+    pub(super) fn certs_naming(&self, b: BodyId, ids: &[Att]) -> Vec<[Att; 3]> {
+        self.by_body
+            .get(&b)
+            .into_iter()
+            .flatten()
+            .filter(|p| p.iter().any(|x| ids.contains(x)))
+            .copied()
+            .collect()
+    }
+
+    /// The owners of the certificates on body `b` that name one of `ids`.
+    pub(super) fn owners_naming(&self, b: BodyId, ids: &[Att]) -> BTreeSet<Owner> {
+        self.certs_naming(b, ids)
+            .iter()
+            .filter_map(|p| self.certs.get(p))
+            .flat_map(|s| s.owners.iter().copied())
+            .collect()
+    }
+
+    /// After vertices `ids` of body `b` changed place (a pop or a merge):
+    /// recompute the certificates of `owners`, then schedule again every
+    /// certificate still naming one of `ids` (its points moved).
+    pub(super) fn refresh_moved(
+        &mut self,
+        geo: &Geo,
+        (b, ids): (BodyId, &[Att]),
+        owners: BTreeSet<Owner>,
+        t: &Time,
+    ) -> Result<(), String> {
+        for o in owners {
+            self.refresh(geo, o, t)?;
+        }
+        for p in &self.certs_naming(b, ids) {
+            self.reschedule(geo, p, t);
+        }
+        Ok(())
+    }
+
+    /// Rename owner `from` to `to` on certificates `ps`.
+    pub(super) fn rename(&mut self, ps: &[[Att; 3]], from: Owner, to: Owner) {
+        for p in ps {
+            if let Some(s) = self.certs.get_mut(p) {
+                for x in &mut s.owners {
+                    if *x == from {
+                        *x = to;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Schedule the certificate on `p` again if it was popped from the queue
+    /// and not handled (a refinement replaced its failure).
+    pub fn reschedule_idle(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
+        let p = crate::structure::certs::rotate_to_min(*p);
+        if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+            self.reschedule(world, &p, now);
+        }
+    }
+}

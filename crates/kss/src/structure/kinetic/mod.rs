@@ -1,0 +1,283 @@
+//! The kinetic layer: every certificate of the structure scheduled in the
+//! event queue at its exact failure time; failures popped in time order and
+//! either reported as collisions or repaired by a local operation
+//! ([`super::ops`]), after which only the touched corridors and triangles get
+//! new certificates; flight-plan changes reschedule only the certificates of
+//! the bodies involved; and an audit against a from-scratch recomputation.
+//!
+//! [`Kinetic`] is the structure with its certificates scheduled. Its methods
+//! are grouped by concept:
+//!
+//! - `book`: certificates, their failure times and the event queue;
+//! - `step`: one event, popped, classified and handled;
+//! - `motion`: flight-plan changes and collision responses;
+//! - `repair`: pops, removals, insertions, local repair, rebuilds, merges;
+//! - `audit`: the exact check of every invariant between events.
+use std::collections::BTreeSet;
+
+use super::certs::Cert;
+use super::geo::Geo;
+use super::ops::Owner;
+use super::{Att, CorrId, Kss};
+use crate::num::{Rational, Time};
+use crate::sim::{EventKey, EventQueue};
+use crate::world::BodyId;
+
+/// Debug tracing of every failure (`--features trace`; the library does no
+/// IO otherwise).
+macro_rules! trace {
+    ($($arg:tt)*) => {
+        #[cfg(feature = "trace")]
+        eprintln!($($arg)*);
+    };
+}
+
+mod audit;
+mod book;
+mod motion;
+mod repair;
+mod step;
+mod tally;
+
+pub use tally::{Rebuild, Tally};
+
+/// A hash map with a fixed hasher (the same order in every run).
+type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
+
+/// A certificate, where it sits in the queue, and who owns it.
+#[derive(Clone, Debug)]
+struct Scheduled {
+    cert: Cert,
+    /// `None` when the certificate never fails on the current motions, or
+    /// while it waits (a contact reported at the current instant).
+    key: Option<EventKey>,
+    owners: Vec<Owner>,
+    /// What the three points were ([`Geo::point_id`]) when the failure
+    /// time under `key` was computed (`None` when it has none): while they
+    /// are the same points, the certificate is known to be wrong just after
+    /// that time, which is a root where it turns negative (the flag:
+    /// `true`) or the instant it was computed at, where it is not positive
+    /// just after ([`failure_time`]).
+    /// (Boxed, as is `popped`: the map of certificates stays small.)
+    fp: Option<Box<(Fingerprint, bool)>>,
+    /// The failure time it was popped (or taken out of the queue) at, while
+    /// it waits to be handled or handled again (`None` while queued).
+    popped: Option<Box<Time>>,
+}
+
+/// The failure time a certificate is due at: its queued time, or the one it
+/// was popped at.
+fn due_time<'a>(
+    queue: &'a EventQueue<Time, [Att; 3]>,
+    key: Option<EventKey>,
+    popped: &'a Option<Box<Time>>,
+) -> Option<&'a Time> {
+    match key {
+        Some(k) => queue.get(k).map(|(t, _)| t),
+        None => popped.as_deref(),
+    }
+}
+
+/// The identities of a certificate's three points ([`Geo::point_id`]).
+type Fingerprint = [(u64, (u32, u32)); 3];
+
+/// The fingerprint of the points of `p` now (`None` if one is `ω` or not
+/// a vertex of its body's current approximation).
+fn fingerprint(world: &Geo, p: &[Att; 3]) -> Option<Fingerprint> {
+    Some([
+        world.point_id(p[0])?,
+        world.point_id(p[1])?,
+        world.point_id(p[2])?,
+    ])
+}
+
+/// The structure with its certificates scheduled.
+#[derive(Debug, Default)]
+pub struct Kinetic {
+    /// The combinatorial structure.
+    pub kss: Kss,
+    /// Hashed (with a fixed, deterministic hasher): looked up several times
+    /// per event; iterated only where the order does not matter or is
+    /// sorted first.
+    certs: FastMap<[Att; 3], Scheduled>,
+    /// The certificates that involve each body (for local rescheduling when
+    /// a flight plan changes).
+    by_body: FastMap<BodyId, BTreeSet<[Att; 3]>>,
+    owned_tri: Vec<Vec<[Att; 3]>>,
+    owned_corr: Vec<Vec<[Att; 3]>>,
+    queue: EventQueue<Time, [Att; 3]>,
+    max_active: usize,
+    /// Certificates popped at the current instant and set aside: contacts
+    /// (the collision response changes the motions) and failures next to a
+    /// contact. Rescheduled by [`Kinetic::motion_changed`].
+    waiting: Vec<[Att; 3]>,
+    /// Popped failures of the current instant that wait until every possible
+    /// contact of the instant has been classified.
+    later: Option<(Time, Vec<[Att; 3]>)>,
+    /// The certificate whose failure is being handled.
+    handling: Option<[Att; 3]>,
+    /// The local operations failed (or the hierarchy was refined) at an
+    /// instant with contacts: the structure is rebuilt when the collision
+    /// response is applied (the rebuild's kind: [`Rebuild::Degenerate`] or
+    /// [`Rebuild::Refine`]).
+    broken: Option<Rebuild>,
+    /// For a [`Rebuild::Refine`] after the response: the bodies whose
+    /// approximations were refined (the region a local repair takes
+    /// instead); for a [`Rebuild::Degenerate`], the bodies of the certificate
+    /// on which the local operations failed, with it and the certificates
+    /// deferred after it. `None` after a refinement if an event was
+    /// deferred meanwhile (the deferred events need the whole structure
+    /// rebuilt).
+    broken_around: Option<(Vec<BodyId>, Vec<[Att; 3]>)>,
+    /// Internal events and fallbacks by kind.
+    pub tally: Tally,
+    /// The instant of the latest [`Kinetic::rebuild_after`] that found no
+    /// structure (polygons may rest in contact there; the driver decides).
+    pub unbuildable: Option<Time>,
+    /// Pairs of bodies that touched at the current instant without a
+    /// collision (they slid along each other, or a response already
+    /// separates them): with the hierarchy, the driver then pops the
+    /// approximation points that would slide along the other body
+    /// ([`Kinetic::take_settled`]).
+    settled: Vec<(BodyId, BodyId)>,
+    /// The corridors the last operation touched (where coarsening is tried).
+    last_touched: Vec<CorrId>,
+    /// The last few certificates handled at the instant of the last one
+    /// (where local operations that cycle at one instant are repaired,
+    /// [`Kinetic::repair_cycle`]).
+    recent: std::collections::VecDeque<[Att; 3]>,
+    /// The instant of `recent`.
+    recent_at: Option<Time>,
+    /// Rotates the coarsening candidates.
+    tick: u64,
+}
+
+impl Kinetic {
+    /// Every certificate with its owners and scheduled failure time (a
+    /// debugging view, in the order of their points).
+    pub fn certificate_list(&self) -> Vec<(Cert, Vec<Owner>, Option<Time>)> {
+        let mut keys: Vec<&[Att; 3]> = self.certs.keys().collect();
+        keys.sort();
+        keys.into_iter()
+            .map(|p| {
+                let s = &self.certs[p];
+                let t = s
+                    .key
+                    .and_then(|k| self.queue.get(k).map(|(t, _)| t.clone()));
+                (s.cert, s.owners.clone(), t)
+            })
+            .collect()
+    }
+}
+
+/// What one step of the engine did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// No failure at or before the limit.
+    Idle,
+    /// A structural event at this time.
+    Internal(Time),
+    /// Two bodies touch at this time.
+    Contact(Time, Vec<(BodyId, BodyId)>),
+    /// A failure at this time next to a contact, set aside.
+    Deferred(Time),
+    /// Two approximations touch at this time where the polygons do not (a
+    /// certificate with an approximation vertex on this triple failed): the
+    /// hierarchy must refine them there.
+    Refine(Time, [Att; 3]),
+}
+
+impl Kinetic {
+    /// Build the structure at time `t` and schedule its certificates.
+    pub fn new(world: &Geo, t: &Rational) -> Result<Kinetic, String> {
+        let (kss, perturbed) = super::build::build(world, t).map_err(|e| e.to_string())?;
+        Kinetic::from_built(world, t, kss, perturbed)
+    }
+
+    /// The engine on a freshly built structure: middle bridges placed,
+    /// corridors normalized, certificates scheduled; a build from the
+    /// shrunk copy is checked exactly first.
+    pub(crate) fn from_built(
+        world: &Geo,
+        t: &Rational,
+        kss: Kss,
+        perturbed: super::build::Perturbed,
+    ) -> Result<Kinetic, String> {
+        // every alive polygon is in a structure of the right size: one built
+        // at an instant where polygons overlap lacks some (a cheap check;
+        // the rebuilds for just after an instant try an earlier one then)
+        let n = world.bodies().iter().filter(|b| b.alive).count();
+        if n >= 2 && (kss.tris.len() != 2 * n - 2 || kss.corrs.len() != 3 * n - 3) {
+            return Err(format!(
+                "{} partition triangles and {} corridors for {n} polygons: polygons overlap at t = {}",
+                kss.tris.len(),
+                kss.corrs.len(),
+                t.to_f64()
+            ));
+        }
+        let mut k = Kinetic {
+            kss,
+            ..Default::default()
+        };
+        let now = Time::from_rational(t.clone());
+        k.kss.place_middle_bridges(world, &now);
+        k.schedule_everything(world, &now)?;
+        if perturbed == super::build::Perturbed::Yes {
+            // built from shrunk polygons: only a candidate until the exact
+            // checks accept it (O(N) and more, but only where polygons touch)
+            k.kss.check_topology(world)?;
+            k.kss.check_faces(world, &now)?;
+            k.kss.check_bridges(world, t)?;
+        }
+        Ok(k)
+    }
+
+    /// Rebuild the structure from scratch at `t` (after polygons were removed)
+    /// and schedule its certificates.
+    pub fn rebuild(&mut self, world: &Geo, t: &Rational) -> Result<(), String> {
+        let fresh = Kinetic::new(world, t)?;
+        self.replace_with(fresh);
+        Ok(())
+    }
+
+    /// Become `fresh`, keeping the event counts and the largest queue size.
+    fn replace_with(&mut self, mut fresh: Kinetic) {
+        fresh.tally = std::mem::take(&mut self.tally);
+        // the touches of this instant still need their pops afterwards
+        fresh.settled = std::mem::take(&mut self.settled);
+        fresh.max_active = fresh.max_active.max(self.max_active);
+        *self = fresh;
+    }
+
+    /// The earliest scheduled failure, if any.
+    pub fn next_time(&self) -> Option<&Time> {
+        match &self.later {
+            Some((t, _)) => Some(t),
+            None => self.queue.peek().map(|(_, t, _, _)| t),
+        }
+    }
+
+    /// Certificates that can fail (scheduled) now, and at most so far.
+    pub fn active(&self) -> (usize, usize) {
+        (self.queue.len(), self.max_active)
+    }
+
+    /// All certificates, scheduled or not.
+    pub fn certificate_count(&self) -> usize {
+        self.certs.len()
+    }
+
+    // ----- read-only views (for pictures; no effect on the simulation) -----
+
+    /// Every certificate scheduled in the event queue with its failure time,
+    /// in no particular order (certificates that never fail on the current
+    /// motions, or that wait for a collision response, are not listed).
+    pub fn scheduled(&self) -> impl Iterator<Item = (&Time, &Cert)> + '_ {
+        self.queue
+            .iter()
+            .filter_map(|(_, t, _, p)| self.certs.get(p).map(|s| (t, &s.cert)))
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,352 @@
+//! Flight-plan changes and collision responses: rescheduling only the
+//! certificates of the bodies whose motion changed, with the corridors that
+//! must be re-normalized first where the new motions make a certificate fail
+//! at once.
+
+use std::collections::BTreeSet;
+
+use crate::motion::orient_poly;
+use crate::num::{Interval, Sign, Time};
+use crate::structure::geo::Geo;
+use crate::structure::ops::Owner;
+use crate::structure::{Att, CorrId, Obj};
+use crate::world::BodyId;
+
+use super::book::is_failing;
+use super::tally::Rebuild;
+use super::{FastMap, Kinetic};
+
+impl Kinetic {
+    /// Bodies changed their motion at `now`: reschedule every certificate
+    /// that involves one of them (flight-plan changes are local), and the
+    /// certificates set aside at this instant.
+    pub fn motion_changed(
+        &mut self,
+        world: &Geo,
+        now: &Time,
+        bodies: &[BodyId],
+    ) -> Result<(), String> {
+        // (the motions changed: operations before this are no cycle of
+        // operations after it)
+        self.recent.clear();
+        let mut touched: Vec<[Att; 3]> = bodies
+            .iter()
+            .filter_map(|b| self.by_body.get(b))
+            .flatten()
+            .copied()
+            .collect();
+        for &_b in bodies {
+            trace!(
+                "motion of {_b:?} at {}: {:?}",
+                now.to_f64(),
+                world.body(_b).traj.velocity().to_f64()
+            );
+        }
+        let waiting = std::mem::take(&mut self.waiting);
+        touched.extend(waiting.iter().copied());
+        touched.sort();
+        touched.dedup();
+        for p in &touched {
+            self.reschedule(world, p, now);
+        }
+        // A corridor with a junction straight at `now` was shaped by its
+        // turns just after `now` under the old motions (an operation of this
+        // instant may have decomposed it again, even while its own failure
+        // waited for this response). Under the new motions that shape may be
+        // wrong, and the certificates, which keep the signs the structure
+        // read, would not notice: such a corridor is normalized again.
+        // (whether the f64 filter leaves each one's turn at `now` undecided:
+        // asked once here for both uses below)
+        // (only for the certificates that still exist: the points of one
+        // dropped meanwhile may no longer be vertices)
+        let undecided: Vec<bool> = touched
+            .iter()
+            .map(|p| {
+                self.certs.contains_key(p)
+                    && world
+                        .orient_filtered(p[0], p[1], p[2], now.interval())
+                        .is_none()
+            })
+            .collect();
+        let reshape = self.straight_now(world, &touched, &undecided, now);
+        // A bridge (an end or the middle one) between two vertices that rest on each other has
+        // length zero, its corner the two ends' together; under the new
+        // motions they may part, and the corridor's certificates are then
+        // its two junctions again.
+        let resting = self.resting_now(world, &touched, now);
+        #[cfg(feature = "trace")]
+        if std::env::var_os("KSS_DUMP").is_some() {
+            eprintln!("resting at {}: {resting:?}", now.to_f64());
+            self.kss.trace_dump();
+        }
+        for (p, undecided) in touched.into_iter().zip(undecided) {
+            let Some(s) = self.certs.get(&p) else {
+                continue;
+            };
+            // the turn is zero just after now only if it is zero for ever
+            // (the three points slide along one line); the filter rules
+            // that out wherever it decides a sign
+            let lp = |a: Att| world.point(a);
+            let zero = undecided && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
+            let owners: Vec<Owner> = s.owners.clone();
+            if s.cert.kind == crate::structure::certs::CertKind::Order {
+                // an order certificate whose three points leave their common
+                // line is a turn again (unless it fails now: two of its points
+                // meet, an event of this instant that recomputes its owners'
+                // certificates). The straight junction or cusp it certified
+                // may now have the wrong class for its face: the corridor is
+                // normalized, and if no decomposition holds just after `now`
+                // the junction keeps its old class and fails at once.
+                // On the hull, where two of its points meet and the new
+                // motions take them off their line, the turns decide: read
+                // by the order, the meeting could drop the wrong one of the
+                // two points from the hull.
+                let on_hull = owners.iter().all(
+                    |o| matches!(*o, Owner::Corr(k) if self.kss.corrs[k.0 as usize].b == Obj::Omega),
+                );
+                if zero
+                    || (!on_hull && self.due_now(&p, s.key, now) && is_failing(world, &s.cert, now))
+                {
+                    continue;
+                }
+                trace!("order certificate {p:?} becomes a turn at {}", now.to_f64());
+                for o in owners {
+                    if let Owner::Corr(k) = o {
+                        let mid = self.kss.corrs[k.0 as usize].mid;
+                        if !self.kss.faces_valid(world, k, mid, now) {
+                            self.kss.normalize(world, k, now, None)?;
+                        }
+                        self.refresh(world, o, now)?;
+                    }
+                }
+            } else if zero && waiting.contains(&p) {
+                // a contact that the response turned into sliding (its turn
+                // is now zero for ever) is no longer a failure: its owners get
+                // their certificates anew (an order certificate for that
+                // triple)
+                self.handling = Some(p);
+                for o in owners {
+                    if matches!(o, Owner::Corr(_)) {
+                        self.refresh(world, o, now)?;
+                    }
+                }
+                self.handling = None;
+            }
+        }
+        // (not when the structure is about to be rebuilt anyway)
+        let (reshape, resting) = if self.broken.is_some() {
+            (BTreeSet::new(), BTreeSet::new())
+        } else {
+            (reshape, resting)
+        };
+        for &k in &resting {
+            let mid = self.kss.corrs[k.0 as usize].mid;
+            let due = self.owned_corr[k.0 as usize].iter().any(|p| {
+                self.certs
+                    .get(p)
+                    .is_some_and(|s| self.due_now(p, s.key, now))
+            });
+            if due {
+                continue;
+            }
+            // (its certificates are the corner's, not the two junctions'
+            // that must now hold: without a decomposition the region around
+            // its two bodies is repaired, or the structure rebuilt, below)
+            if !self.kss.faces_valid(world, k, mid, now)
+                && self.kss.normalize(world, k, now, None).is_err()
+            {
+                let c = &self.kss.corrs[k.0 as usize];
+                let bodies: Vec<BodyId> = [c.a, c.b]
+                    .into_iter()
+                    .filter_map(|o| match o {
+                        Obj::Body(b) => Some(b),
+                        Obj::Omega => None,
+                    })
+                    .collect();
+                let first = self.owned_corr[k.0 as usize].first().copied();
+                self.broken = Some(Rebuild::Degenerate);
+                self.broken_around = first.map(|p| (bodies, vec![p]));
+                break;
+            }
+            self.refresh(world, Owner::Corr(k), now)?;
+        }
+        for k in reshape {
+            if self.broken.is_some() {
+                break;
+            }
+            let mid = self.kss.corrs[k.0 as usize].mid;
+            // (a corridor with a failure still due at this instant is left to
+            // that event's operation)
+            let due = self.owned_corr[k.0 as usize].iter().any(|p| {
+                self.certs
+                    .get(p)
+                    .is_some_and(|s| self.due_now(p, s.key, now))
+            });
+            if due || self.kss.faces_valid(world, k, mid, now) {
+                continue;
+            }
+            trace!(
+                "corridor {k:?} reshaped after the motion change at {}",
+                now.to_f64()
+            );
+            // (where no decomposition holds, failures of this instant are
+            // still to come and the corridor stays as it was, its held
+            // junctions included: `normalize` restores only the bridge)
+            let held = self.kss.held.get(&k).cloned();
+            if self.kss.normalize(world, k, now, None).is_ok() {
+                self.refresh(world, Owner::Corr(k), now)?;
+            } else if let Some(h) = held {
+                self.kss.held.insert(k, h);
+            }
+        }
+        if let Some(kind) = self.broken.take() {
+            let (around, triples) = self.broken_around.take().unwrap_or_default();
+            if kind == Rebuild::Refine && self.repair_refined(world, &around, &triples, now) {
+                for p in &triples {
+                    self.reschedule_idle(world, p, now);
+                }
+            } else if kind == Rebuild::Degenerate
+                && !around.is_empty()
+                && self.unbuildable.as_ref() != Some(now)
+                && self.repair_around(world, (&around, false), triples[0], now)?
+            {
+                // (the local operations failed on `triples[0]` before the
+                // response, the others were deferred after it; the region
+                // around its bodies is whole again, and every one of them
+                // that still exists is scheduled again)
+                for p in &triples {
+                    if self.certs.get(p).is_some_and(|s| s.key.is_none()) {
+                        self.reschedule(world, p, now);
+                    }
+                }
+            } else {
+                self.rebuild_after(world, now, kind)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The corridors between two bodies that own one of the turn
+    /// certificates `ps` whose turn is zero at `now` (but not for ever);
+    /// `undecided[i]`: whether the f64 filter leaves the turn of `ps[i]` at
+    /// `now` undecided (where it decides, the turn is not zero).
+    pub(super) fn straight_now(
+        &self,
+        world: &Geo,
+        ps: &[[Att; 3]],
+        undecided: &[bool],
+        now: &Time,
+    ) -> BTreeSet<CorrId> {
+        let mut out = BTreeSet::new();
+        for (p, &undecided) in ps.iter().zip(undecided) {
+            let Some(s) = self.certs.get(p) else {
+                continue;
+            };
+            if s.cert.kind == crate::structure::certs::CertKind::Order || !undecided {
+                continue;
+            }
+            let lp = |a: Att| world.point(a);
+            let turn = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2]));
+            if turn.is_zero() || turn.sign_at(now) != Sign::Zero {
+                continue;
+            }
+            for o in &s.owners {
+                if let Owner::Corr(k) = *o {
+                    if self.kss.corrs[k.0 as usize].b != Obj::Omega {
+                        out.insert(k);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The corridors among the owners of certificates `ps` (and the
+    /// corridors at their ends) in which two
+    /// points of two bodies are at one place at `now`: the two ends of a
+    /// bridge (an end or the middle one), two points of a junction (a chain
+    /// vertex resting on a bridge's end), or two points of a hull turn.
+    /// While they rest, a turn through both is zero and has no certificate;
+    /// a motion change that parts them must give the corridor its
+    /// certificates anew.
+    pub(super) fn resting_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
+        // (two points of two bodies whose boxes are apart at `now` do not
+        // meet: the boxes first, each computed once)
+        let ti = now.interval();
+        let boxes: std::cell::RefCell<FastMap<BodyId, Option<[Interval; 2]>>> = Default::default();
+        let seen = |b: BodyId| {
+            *boxes
+                .borrow_mut()
+                .entry(b)
+                .or_insert_with(|| world.seen_box(b, ti))
+        };
+        let apart = |x: Obj, y: Obj| match (x, y) {
+            (Obj::Body(p), Obj::Body(q)) if p != q => match (seen(p), seen(q)) {
+                (Some(e), Some(f)) => !e[0].overlaps(&f[0]) || !e[1].overlaps(&f[1]),
+                _ => false,
+            },
+            _ => false,
+        };
+        let meet = |x: Att, y: Att| {
+            !apart(x.obj, y.obj) && crate::structure::faces::coincide_at(world, x, y, now)
+        };
+        let owners: BTreeSet<CorrId> = ps
+            .iter()
+            .filter_map(|p| self.certs.get(p))
+            .flat_map(|s| s.owners.iter())
+            .filter_map(|o| match *o {
+                Owner::Corr(k) => Some(k),
+                Owner::Tri(_) => None,
+            })
+            .collect();
+        // (and the corridors at their ends: a turn through two resting
+        // points has no certificate that would name them, and an empty
+        // corridor has none at all)
+        let mut cands = owners.clone();
+        for k in owners {
+            let c = &self.kss.corrs[k.0 as usize];
+            for tri in [c.s.0, c.t.0] {
+                cands.extend(self.kss.tris[tri.0 as usize].corr);
+            }
+        }
+        let mut out = BTreeSet::new();
+        for k in cands {
+            let c = &self.kss.corrs[k.0 as usize];
+            if apart(c.a, c.b) {
+                continue;
+            }
+            let triples: Vec<[Att; 3]> = if c.b == Obj::Omega {
+                self.kss
+                    .hull_turns(world, k)
+                    .into_iter()
+                    .map(|(p, _)| p)
+                    .collect()
+            } else {
+                let (a_s, b_s, a_t, b_t) = self.kss.ends(k);
+                let mut v = vec![[a_s, b_s, b_s], [a_t, b_t, b_t]];
+                if let Some((i, j)) = c.mid {
+                    let (x, y) = (world.cw(a_s, i), world.cw(b_t, j));
+                    v.push([x, y, y]);
+                }
+                v.extend(
+                    self.kss
+                        .junctions(world, k)
+                        .into_iter()
+                        .map(|j| [j.prev, j.v, j.next]),
+                );
+                v
+            };
+            let rests = triples
+                .iter()
+                .any(|t| meet(t[0], t[1]) || meet(t[1], t[2]) || meet(t[0], t[2]));
+            #[cfg(feature = "trace")]
+            if std::env::var_os("KSS_DUMP").is_some() {
+                eprintln!("resting_now candidate {k:?}: {triples:?} -> {rests}");
+            }
+            if rests {
+                out.insert(k);
+            }
+        }
+        out
+    }
+}

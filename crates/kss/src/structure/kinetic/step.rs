@@ -1,0 +1,558 @@
+//! One step of the engine: pop the next failure, classify it (a contact, a
+//! failure next to a contact, an approximation touching where the polygons
+//! do not, or a structural event), and handle it by a local operation; the
+//! guard against local operations that cycle at one instant.
+
+use std::collections::BTreeSet;
+
+use crate::num::{Interval, Time};
+use crate::structure::events::{classify, nearby_contact, settled_between, Failure};
+use crate::structure::geo::Geo;
+use crate::structure::ops::{Outcome, Owner};
+use crate::structure::{Att, Kss, Obj, TriId};
+use crate::world::BodyId;
+
+use super::book::due_is_failing;
+use super::tally::Rebuild;
+use super::{due_time, Kinetic, Step};
+
+/// How many handled certificates [`Kinetic::repair_cycle`] looks back at.
+pub(super) const RECENT: usize = 8;
+
+/// The distinct bodies of a triple.
+pub(super) fn bodies_of(p: &[Att; 3]) -> Vec<BodyId> {
+    let mut v: Vec<BodyId> = p
+        .iter()
+        .filter_map(|a| match a.obj {
+            Obj::Body(b) => Some(b),
+            Obj::Omega => None,
+        })
+        .collect();
+    v.sort();
+    v.dedup();
+    v
+}
+
+/// The pairs in contact at `t` for a contact failure of triple `p` between
+/// `a` and `b`: that pair, and any other pair among the triple's bodies and
+/// the bodies at the corners of the partition triangles that end the
+/// certificate's corridors, that touches at `t` too (three polygons meeting
+/// at one point need not have a certificate that involves two of them).
+pub(super) fn contact_pairs(
+    world: &Geo,
+    kss: &Kss,
+    owners: &[Owner],
+    p: &[Att; 3],
+    t: &Time,
+    (a, b, third): (BodyId, BodyId, Option<BodyId>),
+    apart: Option<(BodyId, BodyId)>,
+) -> Vec<(BodyId, BodyId)> {
+    let mut v = vec![(a, b)];
+    if let Some(c) = third {
+        v.push((a, c));
+        v.push((b, c));
+    }
+    let Some(r) = t.as_rational() else {
+        return v;
+    };
+    // approximations touching where the polygons certainly do not: a
+    // refinement, not a contact to look around
+    if third.is_none() && apart.is_some() {
+        return v;
+    }
+    let mut near: BTreeSet<BodyId> = BTreeSet::new();
+    let mut add = |x: Att| {
+        if let Obj::Body(b) = x.obj {
+            near.insert(b);
+        }
+    };
+    p.iter().for_each(|&x| add(x));
+    for o in owners {
+        let tris: Vec<TriId> = match *o {
+            Owner::Tri(tri) => vec![tri],
+            Owner::Corr(k) => {
+                let c = &kss.corrs[k.0 as usize];
+                vec![c.s.0, c.t.0]
+            }
+        };
+        for tri in tris {
+            kss.tris[tri.0 as usize].c.iter().for_each(|&x| add(x));
+        }
+    }
+    let near: Vec<BodyId> = near.into_iter().collect();
+    for i in 0..near.len() {
+        for j in i + 1..near.len() {
+            let (x, y) = (near[i], near[j]);
+            if v.iter().any(|&(c, d)| (c.min(d), c.max(d)) == (x, y)) {
+                continue;
+            }
+            let (bx, by) = (world.body(x), world.body(y));
+            // bounding boxes first (rigorous enclosures of the placed boxes
+            // at `t`), the exact test only where they meet
+            let boxed = |body: &crate::world::Body| {
+                let [x0, x1, y0, y1] = body.shape.bounds();
+                let o = Interval::point(0.0);
+                let [px, py] = body.frame.enclose(o, o, t.interval());
+                let p = Interval::point;
+                [
+                    (px + p(x0)).lo,
+                    (px + p(x1)).hi,
+                    (py + p(y0)).lo,
+                    (py + p(y1)).hi,
+                ]
+            };
+            let (ex, ey) = (boxed(bx), boxed(by));
+            let boxes_meet = !(ex[1] < ey[0] || ey[1] < ex[0] || ex[3] < ey[2] || ey[3] < ex[2]);
+            if bx.alive
+                && by.alive
+                && boxes_meet
+                && crate::geom::placed_polygons_intersect(
+                    &bx.shape,
+                    &bx.traj.position_at(r),
+                    &by.shape,
+                    &by.traj.position_at(r),
+                )
+            {
+                v.push((x, y));
+            }
+        }
+    }
+    v
+}
+
+impl Kinetic {
+    /// Whether a failure that could be a contact is still queued at `t`
+    /// (such failures are popped first at an instant).
+    pub fn contact_candidate_due(&self, t: &Time) -> bool {
+        self.queue
+            .peek()
+            .is_some_and(|(_, tq, tie, _)| tq == t && tie == 0)
+    }
+
+    /// Pop and handle the earliest failure if it is at most `limit`.
+    ///
+    /// At one instant, every failure that could be a contact (a vertex
+    /// against another body's polygon edge) is classified before any
+    /// structural operation: the contacts are reported, and failures that
+    /// involve a body in contact at this instant are set aside until the
+    /// collision response has changed the motions (`contacts` lists the pairs
+    /// found so far at this instant). `collides(a, b, t)` says whether a
+    /// touch of the pair at `t` is a collision (the driver's rule: a contact
+    /// that begins at `t`, or one that still interpenetrates after its
+    /// collision response); a touch that is not one (two bodies that slide
+    /// along each other reach the end of an edge, or a pair that the
+    /// response already separates) is a structural event.
+    pub fn step(
+        &mut self,
+        world: &Geo,
+        limit: &Time,
+        contacts: &[(BodyId, BodyId)],
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
+    ) -> Result<Step, String> {
+        let head = self
+            .queue
+            .peek()
+            .map(|(key, t, tie, &p)| (key, t.clone(), tie, p));
+        let use_later = match (&self.later, &head) {
+            (None, _) => false,
+            (Some(_), None) => true,
+            (Some((lt, _)), Some((_, t, tie, _))) => t > lt || *tie > 0,
+        };
+        if use_later {
+            let (t, ps) = self.later.as_mut().expect("checked");
+            let t = t.clone();
+            let p = ps.pop().expect("non-empty");
+            if ps.is_empty() {
+                self.later = None;
+            }
+            return self.handle_or_rebuild(world, p, t, contacts, collides);
+        }
+        let Some((key, t, tie, p)) = head else {
+            return Ok(Step::Idle);
+        };
+        if &t > limit {
+            return Ok(Step::Idle);
+        }
+        self.queue.pop();
+        let s = self
+            .certs
+            .get_mut(&p)
+            .ok_or_else(|| format!("queued certificate {p:?} unknown"))?;
+        if s.key != Some(key) {
+            return Err(format!("certificate {p:?} scheduled twice"));
+        }
+        s.key = None;
+        s.popped = Some(Box::new(t.clone()));
+        trace!(
+            "pop t={} tie {tie} {:?} {:?}",
+            t.to_f64(),
+            s.cert.p,
+            s.owners
+        );
+        if tie == 0 {
+            let cert = s.cert;
+            let (pairs, apart) = match classify(world, &cert, &t) {
+                Failure::Contact { a, b, third } => {
+                    let owners = s.owners.clone();
+                    let apart = crate::structure::events::real_touch_excluded(world, &p, &t);
+                    let pairs =
+                        contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
+                    (pairs, apart)
+                }
+                Failure::Between { .. } => {
+                    (nearby_contact(world, &p, &t).into_iter().collect(), None)
+                }
+            };
+            if let Some(step) = self.touch(world, p, &t, pairs, apart, collides) {
+                return Ok(step);
+            }
+            // not a contact, or a touch that is not a collision: a
+            // structural failure
+            match &mut self.later {
+                Some((_, ps)) => ps.push(p),
+                None => self.later = Some((t.clone(), vec![p])),
+            }
+            return Ok(Step::Deferred(t));
+        }
+        self.handle_or_rebuild(world, p, t, contacts, collides)
+    }
+
+    /// The failure of `p` at `t` where the bodies of `pairs` touch: a
+    /// contact if some pair collides by the driver's rule (`collides`), else
+    /// a refinement if the triple has an approximation vertex; `None` for a
+    /// structural failure (no touch, or a touch that is not a collision).
+    /// `apart` is a pair whose polygons certainly do not meet there
+    /// ([`crate::structure::events::real_touch_excluded`]): it gets no contact test
+    /// (that costs O(n) and would make every pop as dear as the polygons
+    /// are large).
+    pub(super) fn touch(
+        &mut self,
+        world: &Geo,
+        p: [Att; 3],
+        t: &Time,
+        pairs: Vec<(BodyId, BodyId)>,
+        apart: Option<(BodyId, BodyId)>,
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
+    ) -> Option<Step> {
+        if pairs.is_empty() {
+            return None;
+        }
+        let colliding: Vec<(BodyId, BodyId)> = pairs
+            .into_iter()
+            .filter(|&(a, b)| apart != Some((a, b)) && apart != Some((b, a)))
+            .filter(|&(a, b)| collides(a, b, t))
+            .collect();
+        if !colliding.is_empty() {
+            self.waiting.push(p);
+            return Some(Step::Contact(t.clone(), colliding));
+        }
+        p.iter()
+            .any(|&a| !world.is_real(a))
+            .then(|| Step::Refine(t.clone(), p))
+    }
+
+    /// [`Kinetic::handle`], falling back to [`Kinetic::rebuild_after`] when
+    /// the local operations cannot resolve a degenerate instant (and no
+    /// contact is pending at it).
+    pub(super) fn handle_or_rebuild(
+        &mut self,
+        world: &Geo,
+        p: [Att; 3],
+        t: Time,
+        contacts: &[(BodyId, BodyId)],
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
+    ) -> Result<Step, String> {
+        if self.broken.is_some() {
+            // this event waits for the rebuild. After a refinement a local
+            // repair would miss it; after failed local operations it is
+            // scheduled again once the region around them is repaired (and
+            // handled then, at this instant if it still fails at it)
+            match (self.broken, self.broken_around.as_mut()) {
+                (Some(Rebuild::Degenerate), Some((_, triples))) => triples.push(p),
+                _ => self.broken_around = None,
+            }
+            return Ok(Step::Deferred(t));
+        }
+        match self.handle(world, p, t.clone(), contacts, collides) {
+            Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
+                trace!("local operations failed at {}: {e}; repairing", t.to_f64());
+                #[cfg(feature = "trace")]
+                self.kss.trace_dump();
+                // (with those of the certificate whose operation failed: a
+                // triangle handled first for `p`'s corridor may have a
+                // polygon that `p` does not name)
+                let mut bodies = bodies_of(&p);
+                if self.recent_at.as_ref() == Some(&t) {
+                    if let Some(q) = self.recent.back() {
+                        bodies.extend(bodies_of(q));
+                        bodies.sort();
+                        bodies.dedup();
+                    }
+                }
+                // (only all of them together: the failed operation may have
+                // changed corridors between any two of them before failing,
+                // and the region must take every such corridor; not after a
+                // failed rebuild, which may have left a repair half done)
+                if self.unbuildable.as_ref() != Some(&t)
+                    && self.repair_around(world, (&bodies, false), p, &t)?
+                {
+                    if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                        self.reschedule(world, &p, &t);
+                    }
+                    return Ok(Step::Internal(t));
+                }
+                trace!("no local repair at {}: rebuilding", t.to_f64());
+                self.rebuild_after(world, &t, Rebuild::Degenerate)
+                    .map_err(|r| format!("{e}; then {r}"))?;
+                Ok(Step::Internal(t))
+            }
+            Err(_e) => {
+                // contacts at this instant: repair once the collision
+                // response has set the motions (`motion_changed`), around
+                // the failing certificate's bodies (if nothing else is
+                // deferred meanwhile), else rebuild then
+                trace!(
+                    "local operations failed at {}: {_e}; repairing after the response",
+                    t.to_f64()
+                );
+                self.broken = Some(Rebuild::Degenerate);
+                self.broken_around = Some((bodies_of(&p), vec![p]));
+                Ok(Step::Deferred(t))
+            }
+            other => other,
+        }
+    }
+
+    /// Whether the local operations seem to cycle at `now`: the last
+    /// certificate handled was handled three times before at this instant, among
+    /// the last few (the driver then switches to the alternate
+    /// normalization, [`Kinetic::alternate_normalization`], and if they
+    /// still cycle tries [`Kinetic::repair_cycle`]).
+    pub fn cycling(&self, now: &Time) -> bool {
+        self.recent_at.as_ref() == Some(now)
+            && self
+                .recent
+                .back()
+                .is_some_and(|p| self.recent.iter().filter(|&q| q == p).count() >= 4)
+    }
+
+    /// The local operations cycle at `now`: for the rest of the instant,
+    /// [`Kss::normalize`] takes the decomposition that holds the fewest
+    /// junctions against the motion rather than the first that works (two
+    /// operations that undo each other usually meet at a junction held
+    /// needlessly, whose failure hands an edge back). `false` if it already
+    /// did at `now` (the caller repairs then).
+    pub fn alternate_normalization(&mut self, now: &Time) -> bool {
+        if self.kss.fewest_held.as_ref() == Some(now) {
+            return false;
+        }
+        trace!(
+            "operations cycle at {}: the alternate normalization",
+            now.to_f64()
+        );
+        self.kss.fewest_held = Some(now.clone());
+        self.recent.clear();
+        true
+    }
+
+    /// The local operations cycle at `now` ([`Kinetic::cycling`], or the
+    /// driver's guard: far more operations at one instant than the
+    /// structure has corridors): repair
+    /// the region around the polygons of the last certificates handled, as
+    /// at a settled contact ([`Kinetic::repair_around`]), so that the
+    /// structure is the one for just after `now`. `false` when there is
+    /// none (the caller rebuilds the whole structure).
+    pub fn repair_cycle(&mut self, world: &Geo, now: &Time) -> Result<bool, String> {
+        let Some(&last) = self.recent.back() else {
+            return Ok(false);
+        };
+        trace!("repair_cycle at {}", now.to_f64());
+        let mut bodies: Vec<BodyId> = self.recent.iter().flat_map(bodies_of).collect();
+        bodies.sort();
+        bodies.dedup();
+        if !self.repair_around(world, (&bodies, false), last, now)? {
+            return Ok(false);
+        }
+        for p in std::mem::take(&mut self.recent) {
+            if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                self.reschedule(world, &p, now);
+            }
+        }
+        Ok(true)
+    }
+
+    /// Handle the failure of the (popped) certificate on `p` at `t`.
+    pub(super) fn handle(
+        &mut self,
+        world: &Geo,
+        p: [Att; 3],
+        t: Time,
+        contacts: &[(BodyId, BodyId)],
+        collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
+    ) -> Result<Step, String> {
+        let Some(s) = self.certs.get(&p) else {
+            return Ok(Step::Deferred(t)); // replaced by an earlier operation
+        };
+        if s.key.is_some() {
+            return Ok(Step::Deferred(t)); // rescheduled meanwhile
+        }
+        let (cert, fp, popped) = (s.cert, s.fp.as_deref().copied(), s.popped.clone());
+        let owners = s.owners.clone();
+        if self.recent_at.as_ref() != Some(&t) {
+            self.recent.clear();
+            self.recent_at = Some(t.clone());
+        }
+        if self.recent.len() == RECENT {
+            self.recent.pop_front();
+        }
+        self.recent.push_back(p);
+        if !due_is_failing(world, &cert, (fp.as_ref(), popped.as_deref()), &t) {
+            // an operation at this instant made it hold again
+            self.reschedule(world, &p, &t);
+            return Ok(Step::Deferred(t));
+        }
+        trace!(
+            "handle t={} {:?} {:?} {:?} {:?} -> {:?}",
+            t.to_f64(),
+            cert.p,
+            cert.sign,
+            cert.kind,
+            owners,
+            classify(world, &cert, &t)
+        );
+        #[cfg(feature = "trace")]
+        if std::env::var_os("KSS_DUMP").is_some() {
+            self.kss.trace_dump();
+        }
+        let mut failure = classify(world, &cert, &t);
+        if let Failure::Contact { a, b, third } = failure {
+            let apart = crate::structure::events::real_touch_excluded(world, &p, &t);
+            let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
+            if let Some(step) = self.touch(world, p, &t, pairs, apart, collides) {
+                return Ok(step);
+            }
+            // two polygons touch but do not collide (they slid along each
+            // other, or the collision response at this instant already
+            // separates them): a structural event at the touching vertex
+            // if there is one
+            for pair in [Some((a, b)), third.map(|c| (a, c)), third.map(|c| (b, c))]
+                .into_iter()
+                .flatten()
+            {
+                let pair = (pair.0.min(pair.1), pair.0.max(pair.1));
+                if !self.settled.contains(&pair) {
+                    self.settled.push(pair);
+                }
+            }
+            match settled_between(world, &cert, &t) {
+                Some(f) => failure = f,
+                None => {
+                    trace!("settled contact at {}: repairing", t.to_f64());
+                    if contacts.is_empty() && self.waiting.is_empty() {
+                        let bodies: Vec<BodyId> =
+                            [Some(a), Some(b), third].into_iter().flatten().collect();
+                        if self.repair_around(world, (&bodies, true), p, &t)? {
+                            if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                                self.reschedule(world, &p, &t);
+                            }
+                            return Ok(Step::Internal(t));
+                        }
+                        trace!("no local repair at {}: rebuilding", t.to_f64());
+                        self.rebuild_after(world, &t, Rebuild::Degenerate)?;
+                        return Ok(Step::Internal(t));
+                    }
+                    // contacts at this instant: set aside until the
+                    // response has set the motions, then handled again
+                    // (repaired then, if it still fails)
+                    self.waiting.push(p);
+                    return Ok(Step::Deferred(t));
+                }
+            }
+        }
+        match failure {
+            Failure::Contact { .. } => unreachable!("contacts are handled above"),
+            Failure::Between { middle, .. } => {
+                let near_contact = contacts.iter().any(|&(a, b)| {
+                    p.iter()
+                        .any(|x| x.obj == Obj::Body(a) || x.obj == Obj::Body(b))
+                });
+                if near_contact {
+                    self.waiting.push(p);
+                    return Ok(Step::Deferred(t));
+                }
+                let owner = *owners.first().ok_or("certificate without owner")?;
+                // a partition triangle at an end of the corridor that
+                // collapses at this instant goes first: the corridor's
+                // operations assume its end triangles, and two of its
+                // junctions can otherwise hand an edge back and forth
+                // across the degenerate triangle for ever
+                let moved_tri = match owner {
+                    Owner::Corr(k) if self.kss.corrs[k.0 as usize].b != Obj::Omega => {
+                        let c = &self.kss.corrs[k.0 as usize];
+                        match self.kss.junction_plan(world, k, p, middle) {
+                            Ok((crate::structure::local::EdgeRef::EndS, _, _, true)) => Some(c.s.0),
+                            Ok((crate::structure::local::EdgeRef::EndT, _, _, true)) => Some(c.t.0),
+                            _ => None,
+                        }
+                    }
+                    _ => None,
+                };
+                // (only the triangle whose corner the operation would move)
+                let collapsing = moved_tri.and_then(|tri| {
+                    let q = self.kss.triangle_certs(tri).first().map(|c| c.p)?;
+                    let s = self.certs.get(&q)?;
+                    let due = s
+                        .key
+                        .is_some_and(|key| self.queue.get(key).is_some_and(|(tq, _)| *tq == t));
+                    let at = due_time(&self.queue, s.key, &s.popped);
+                    (q != p && due && due_is_failing(world, &s.cert, (s.fp.as_deref(), at), &t))
+                        .then_some((tri, q))
+                });
+                if let Some((_tri, q)) = collapsing {
+                    trace!("triangle {} collapses first", _tri.0);
+                    if let Some(s) = self.certs.get_mut(&q) {
+                        if let Some(key) = s.key.take() {
+                            self.queue.cancel(key);
+                            s.popped = Some(Box::new(t.clone()));
+                        }
+                    }
+                    self.reschedule(world, &p, &t);
+                    return self.handle(world, q, t, contacts, collides);
+                }
+                let out = self.kss.process(world, owner, p, middle, &t)?;
+                self.handling = Some(p);
+                self.kss.handling = Some(p);
+                let applied = self.apply(world, out, &t);
+                self.handling = None;
+                self.kss.handling = None;
+                applied?;
+                // a certificate that outlived the operation unchanged fails
+                // again if it is still wrong just after t
+                if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
+                    self.reschedule(world, &p, &t);
+                }
+                Ok(Step::Internal(t))
+            }
+        }
+    }
+
+    pub(super) fn apply(&mut self, world: &Geo, out: Outcome, t: &Time) -> Result<(), String> {
+        self.tally.events(out.kind, 1);
+        let mut corrs = out.corrs;
+        corrs.sort();
+        corrs.dedup();
+        for &k in &corrs {
+            if self.kss.normalize(world, k, t, None)? > 0 {
+                self.tally.searches += 1;
+            }
+        }
+        for tri in out.tris {
+            self.refresh(world, Owner::Tri(tri), t)?;
+        }
+        for &k in &corrs {
+            self.refresh(world, Owner::Corr(k), t)?;
+        }
+        self.last_touched = corrs;
+        Ok(())
+    }
+}

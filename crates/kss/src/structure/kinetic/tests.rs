@@ -1,0 +1,257 @@
+//! Unit tests of the kinetic layer.
+
+use super::book::cert_enclosure;
+use super::*;
+use crate::gen::{generate_small, Family};
+use crate::num::Sign;
+use crate::structure::geo::Geo;
+use crate::world::World;
+
+#[test]
+fn scheduled_certificates_audit_clean_before_the_first_event() {
+    let mut audited = 0;
+    for family in Family::ALL {
+        for seed in 0..40 {
+            let s = generate_small(family, seed);
+            let world = World::new(&s, None).unwrap();
+            let world = Geo::plain(&world);
+            let k = Kinetic::new(&world, &Rational::zero()).unwrap();
+            let now = Time::zero();
+            let Some(next) = k.next_time().cloned() else {
+                continue;
+            };
+            if next == now {
+                continue; // a degenerate start: the first event is at once
+            }
+            let at = now.rational_between(&next);
+            k.audit(&world, &now, &at)
+                .unwrap_or_else(|e| panic!("{} seed {seed}: {e}", family.name()));
+            audited += 1;
+        }
+    }
+    assert!(audited > 150, "{audited}");
+}
+
+/// Calls `f` with a view of the scene of each family and seed below
+/// `seeds`, plain and with every polygon approximated, and the vertices
+/// (real or approximation) of its first `bodies` bodies.
+fn each_view(seeds: u64, bodies: usize, mut f: impl FnMut(&Geo, &[Att])) {
+    for family in Family::ALL {
+        for seed in 0..seeds {
+            let s = generate_small(family, seed);
+            let world = World::new(&s, None).unwrap();
+            for hierarchical in [false, true] {
+                let mut shapes = crate::structure::geo::Shapes::default();
+                if hierarchical {
+                    shapes = crate::structure::refine::coarsest_shapes(&world, 0);
+                }
+                let geo = Geo {
+                    world: &world,
+                    shapes: &shapes,
+                };
+                let pts: Vec<Att> = (0..world.len().min(bodies))
+                    .flat_map(|b| {
+                        let b = crate::world::BodyId(b as u32);
+                        geo.ids(b).into_iter().map(move |v| Att::vertex(b, v))
+                    })
+                    .collect();
+                f(&geo, &pts);
+            }
+        }
+    }
+}
+
+/// The f64 filter of the orientation and order tests never contradicts
+/// the exact polynomials: on every triple of (real and approximation)
+/// vertices of the degenerate families, where collinear points and
+/// contacts at dyadic instants abound, at integer, dyadic and
+/// non-dyadic instants.
+#[test]
+fn filtered_turns_agree_with_the_exact_ones() {
+    let (mut decided, mut undecided) = (0u64, 0u64);
+    each_view(6, 3, |geo, pts| {
+        for t in ["0", "1", "2", "0.375", "1/3", "7/5"] {
+            let t = match t.split_once('/') {
+                Some((p, q)) => Time::from_rational(Rational::new(
+                    p.parse::<i64>().unwrap().into(),
+                    q.parse::<i64>().unwrap().into(),
+                )),
+                None => Time::from_f64(t.parse().unwrap()).unwrap(),
+            };
+            let lp = |a: Att| geo.point(a);
+            for (i, &u) in pts.iter().enumerate() {
+                for &v in &pts[i + 1..] {
+                    for &w in pts.iter().step_by(3) {
+                        let exact = crate::motion::orient_poly(&lp(u), &lp(v), &lp(w)).sign_at(&t);
+                        match geo.orient_filtered(u, v, w, t.interval()) {
+                            Some(f) => {
+                                assert_eq!(f, exact, "{u:?} {v:?} {w:?} at {t}");
+                                decided += 1;
+                            }
+                            None => undecided += 1,
+                        }
+                        let dot = crate::motion::dot_poly(&lp(v), &lp(u), &lp(w)).sign_at(&t);
+                        if let Some(f) = geo.dot_filtered(u, v, w, t.interval()) {
+                            assert_eq!(f, dot, "{u:?} {v:?} {w:?} at {t}");
+                        }
+                    }
+                }
+            }
+        }
+    });
+    assert!(decided > 1000 && undecided > 10, "{decided} {undecided}");
+}
+
+/// The certificate filter's coefficient enclosures ([`cert_enclosure`],
+/// midpoint–radius arithmetic) hold the exact coefficients of the
+/// certificate function (in real coordinates, a positive multiple of
+/// [`cert_poly`]), for every kind and sign, on triples of real and
+/// approximation vertices of every family, moving and fixed, and are
+/// exact zeros where a coefficient is exactly zero by construction.
+#[test]
+fn certificate_enclosures_hold_the_exact_coefficients() {
+    use crate::structure::certs::CertKind;
+    let mut checked = 0u64;
+    each_view(4, 4, |geo, pts| {
+        // the exact linear position (x0 + x1·t, y0 + y1·t)
+        let lin = |a: Att| {
+            let l = geo.point(a);
+            let q = |n: &crate::num::Int| Rational::new(n.clone(), l.w.clone());
+            [q(&l.x0), q(&l.x1), q(&l.y0), q(&l.y1)]
+        };
+        for (i, &u) in pts.iter().enumerate().step_by(2) {
+            for &v in pts[i + 1..].iter().step_by(2) {
+                for &w in pts.iter().step_by(3) {
+                    if u == w || v == w {
+                        continue;
+                    }
+                    for (kind, sign) in [
+                        (CertKind::Junction, Sign::Positive),
+                        (CertKind::Triangle, Sign::Negative),
+                        (CertKind::Order, Sign::Positive),
+                    ] {
+                        let c = Cert {
+                            p: [u, v, w],
+                            sign,
+                            kind,
+                        };
+                        let Some(e) = cert_enclosure(geo, &c) else {
+                            continue;
+                        };
+                        let order = kind == CertKind::Order;
+                        let [p, q, r] = if order { [v, u, w] } else { [u, v, w] };
+                        let [pp, pq, pr] = [lin(p), lin(q), lin(r)];
+                        let d = |a: &[Rational; 4], b: &[Rational; 4]| {
+                            [0, 1, 2, 3].map(|k| b[k].sub(&a[k]))
+                        };
+                        let [ux0, ux1, uy0, uy1] = d(&pp, &pq);
+                        let [vx0, vx1, vy0, vy1] = d(&pp, &pr);
+                        let m = |a: &Rational, b: &Rational| a.mul(b);
+                        let mut exact = if order {
+                            [
+                                m(&ux0, &vx0).add(&m(&uy0, &vy0)),
+                                m(&ux0, &vx1)
+                                    .add(&m(&ux1, &vx0))
+                                    .add(&m(&uy0, &vy1))
+                                    .add(&m(&uy1, &vy0)),
+                                m(&ux1, &vx1).add(&m(&uy1, &vy1)),
+                            ]
+                        } else {
+                            [
+                                m(&ux0, &vy0).sub(&m(&uy0, &vx0)),
+                                m(&ux0, &vy1)
+                                    .add(&m(&ux1, &vy0))
+                                    .sub(&m(&uy0, &vx1))
+                                    .sub(&m(&uy1, &vx0)),
+                                m(&ux1, &vy1).sub(&m(&uy1, &vx1)),
+                            ]
+                        };
+                        if order || sign == Sign::Negative {
+                            exact = exact.map(|x| x.neg());
+                        }
+                        for (iv, x) in e.iter().zip(&exact) {
+                            if iv.is_zero() {
+                                assert!(x.is_zero(), "{c:?}: {x} is no zero");
+                            }
+                            let lo = Rational::from_f64(iv.lo);
+                            let hi = Rational::from_f64(iv.hi);
+                            assert!(
+                                lo.is_none_or(|lo| lo <= *x) && hi.is_none_or(|hi| *x <= hi),
+                                "{c:?}: {iv:?} misses {x}"
+                            );
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    });
+    assert!(checked > 5000, "{checked}");
+}
+
+/// Pops done in place at the start, one approximation vertex after
+/// another, leave a structure that passes the full audit (certificates,
+/// tiling, pseudo-triangles) after every pop.
+#[test]
+fn pops_in_place_keep_the_structure_valid() {
+    let (mut local, mut audited) = (0, 0);
+    for family in [Family::Gas, Family::Flypast, Family::Far] {
+        for seed in 0..12 {
+            let s = generate_small(family, seed);
+            let world = World::new(&s, None).unwrap();
+            let mut shapes = crate::structure::refine::coarsest_shapes(&world, 0);
+            crate::structure::refine::separate_all_at(&world, &mut shapes, &Rational::zero())
+                .unwrap();
+            let geo = Geo {
+                world: &world,
+                shapes: &shapes,
+            };
+            let mut k = Kinetic::new(&geo, &Rational::zero()).unwrap();
+            let now = Time::zero();
+            for round in 0..24 {
+                // the `round`-th approximation vertex of all bodies
+                let geo = Geo {
+                    world: &world,
+                    shapes: &shapes,
+                };
+                let verts: Vec<Att> = (0..world.len())
+                    .flat_map(|b| {
+                        let b = BodyId(b as u32);
+                        geo.ids(b).into_iter().map(move |v| Att::vertex(b, v))
+                    })
+                    .filter(|&a| !geo.is_real(a))
+                    .collect();
+                if verts.is_empty() {
+                    break;
+                }
+                let a = verts[(round * 7 + seed as usize) % verts.len()];
+                let (changed, followed) = k.pop_local(&world, &mut shapes, a, &now).unwrap();
+                assert!(changed, "{a:?} was not popped");
+                if !followed {
+                    break; // the structure would be rebuilt
+                }
+                local += 1;
+                let geo = Geo {
+                    world: &world,
+                    shapes: &shapes,
+                };
+                let Some(next) = k.next_time().cloned() else {
+                    continue;
+                };
+                if next == now {
+                    break; // a failure at once: the engine would handle it
+                }
+                let at = now.rational_between(&next);
+                k.audit(&geo, &now, &at).unwrap_or_else(|e| {
+                    panic!("{} seed {seed} pop {round} of {a:?}: {e}", family.name())
+                });
+                crate::structure::refine::check_apart(&world, &shapes, &at).unwrap();
+                audited += 1;
+            }
+        }
+    }
+    assert!(
+        local > 100 && audited > 100,
+        "{local} local pops, {audited} audited"
+    );
+}
