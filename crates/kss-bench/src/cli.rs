@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use clap::Parser;
+use clap::{Args, Parser, Subcommand};
 
 /// Benchmark kss against the baselines (parry2d, kinetic sort-and-sweep) on
 /// fixed workloads; writes a Markdown table and SVG plots.
@@ -12,7 +12,12 @@ use clap::Parser;
 #[command(name = "kss-bench", version)]
 #[command(after_help = "Exit status: 0 complete run, 2 bad command line, \
 4 a cell failed or an exact method differs from the reference, 5 input/output error.")]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct BenchArgs {
+    /// Instead of a benchmark: `docs` writes the benchmark page from the
+    /// results files.
+    #[command(subcommand)]
+    pub command: Option<Sub>,
     /// Tiny workloads and a short budget (CI runs this; about a minute).
     #[arg(long)]
     pub quick: bool,
@@ -66,6 +71,32 @@ pub struct BenchArgs {
     /// Internal: where the cell writes its events.
     #[arg(long, hide = true, value_name = "FILE", requires = "cell")]
     pub cell_events: Option<PathBuf>,
+}
+
+/// The subcommands (none runs the benchmark).
+#[derive(Debug, Subcommand)]
+pub enum Sub {
+    /// Write docs/benchmarks.md from the results files: the page's text
+    /// from DIR/page/*.md, every table from the results file it names
+    /// (run it from the workspace root).
+    #[command(after_help = "Exit status: 0 written (with --check: up to date), \
+1 with --check: the page differs from what the results make, 2 bad command line, \
+5 a file cannot be read or written, or the page's sources do not match the results files.")]
+    Docs(DocsArgs),
+}
+
+/// `kss-bench docs`.
+#[derive(Debug, Args)]
+pub struct DocsArgs {
+    /// The results folder (its `page/` holds the page's text).
+    #[arg(long, value_name = "DIR", default_value = "crates/kss-bench/results")]
+    pub results: PathBuf,
+    /// The page to write.
+    #[arg(long, value_name = "FILE", default_value = "docs/benchmarks.md")]
+    pub out: PathBuf,
+    /// Write nothing: fail if FILE differs from what the results make.
+    #[arg(long)]
+    pub check: bool,
 }
 
 /// A budget in seconds: a finite number greater than 0.

@@ -5,7 +5,7 @@
 use std::io::{self, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
-use crate::cli::BenchArgs;
+use crate::cli::{BenchArgs, DocsArgs, Sub};
 use crate::harness::{self, BenchRun, CellResult, Config, Executor, Progress, Status};
 use crate::report::{self, Machine};
 use crate::workload::Workload;
@@ -23,6 +23,8 @@ pub struct Error {
 /// Kinds of failure, one exit status each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ErrorKind {
+    /// `docs --check`: the page differs from what the results make (1).
+    Stale,
     /// Bad command line (2, as clap's own errors).
     Usage,
     /// A cell failed or an exact method differs from the reference (4).
@@ -42,6 +44,7 @@ impl Error {
     /// The process exit status for this error.
     pub fn exit_code(&self) -> i32 {
         match self.kind {
+            ErrorKind::Stale => 1,
             ErrorKind::Usage => 2,
             ErrorKind::Internal => 4,
             ErrorKind::Io => 5,
@@ -124,8 +127,45 @@ fn write_report(out: &Path, run: &BenchRun, machine: &Machine) -> Result<(), Err
     Ok(())
 }
 
+/// `kss-bench docs`: writes the benchmark page from the results files, or
+/// with `--check` compares it with the page there.
+pub fn docs(args: &DocsArgs) -> Result<(), Error> {
+    let page = crate::docs::generate(&args.results, &args.out)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("docs: {e}")))?;
+    if args.check {
+        let now = std::fs::read_to_string(&args.out).map_err(|e| {
+            Error::new(
+                ErrorKind::Io,
+                format!("docs: cannot read {}: {e}", args.out.display()),
+            )
+        })?;
+        return match crate::docs::first_difference(&now, &page) {
+            None => Ok(()),
+            Some(d) => Err(Error::new(
+                ErrorKind::Stale,
+                format!(
+                    "docs: {} is not what the results make ({d}); write it with `{}`",
+                    args.out.display(),
+                    crate::docs::COMMAND
+                ),
+            )),
+        };
+    }
+    std::fs::write(&args.out, &page).map_err(|e| {
+        Error::new(
+            ErrorKind::Io,
+            format!("docs: cannot write {}: {e}", args.out.display()),
+        )
+    })?;
+    eprintln!("kss-bench: wrote {}", args.out.display());
+    Ok(())
+}
+
 /// Runs `kss-bench` with the parsed command line.
 pub fn bench(args: &BenchArgs) -> Result<(), Error> {
+    if let Some(Sub::Docs(d)) = &args.command {
+        return docs(d);
+    }
     if let Some(cell) = &args.cell {
         let events = args
             .cell_events

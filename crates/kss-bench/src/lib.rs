@@ -21,12 +21,14 @@
 //! seeds), [`harness`] runs every method on every workload under a time
 //! budget (each cell in a child process when an executable is given, which
 //! also measures the method's own peak memory), [`compare`] counts missed
-//! and wrong-time collisions against the exact reference, and [`report`]
-//! writes the Markdown table, the SVG plots and the machine description.
+//! and wrong-time collisions against the exact reference, [`report`]
+//! writes the Markdown table, the SVG plots and the machine description,
+//! and [`docs`] writes the page `docs/benchmarks.md` from the results files
+//! kept in the repository (`kss-bench docs`).
 //!
 //! The `kss-bench` binary (`src/main.rs`) only parses the arguments
 //! ([`cli`]) and calls [`command::bench`], which runs the harness and prints
-//! the report:
+//! the report (or, for `kss-bench docs`, [`command::docs`]):
 //!
 //! ```sh
 //! cargo build --release -p kss-bench
@@ -39,6 +41,7 @@
 pub mod cli;
 pub mod command;
 pub mod compare;
+pub mod docs;
 pub mod exact;
 pub mod harness;
 pub mod method;

@@ -191,3 +191,72 @@ fn bench_writes_a_checkpoint_and_resumes_from_it() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn docs_writes_the_page_from_the_results_and_checks_it() {
+    let dir = temp_dir();
+    let results = dir.join("results");
+    std::fs::create_dir_all(results.join("page")).expect("create results/page");
+    std::fs::write(
+        results.join("run.md"),
+        "# A run\n\nOn 2026-01-02 with commit abc1234:\n\n```sh\nkss-bench --quick\n```\n\n\
+         ## Numbers\n\n| workload | method | wall |\n| --- | --- | ---: |\n\
+         | a | plain | 1 s |\n| b | plain | 2 s |\n",
+    )
+    .expect("write run.md");
+    std::fs::write(
+        results.join("page").join("00.md"),
+        "# Page\n\n## Section\n\n::: run\nfile: run.md\ndate: 2026-01-02\ncommit: abc1234\n\
+         command: block 1\n:::\n\n::: table\nfile: run.md\nunder: Numbers\nrows: b\n\
+         columns: workload | wall\n:::\n\nSee [the run]({results}/run.md).\n",
+    )
+    .expect("write the page source");
+    let docs = dir.join("docs");
+    std::fs::create_dir_all(&docs).expect("create docs");
+    let page = docs.join("page.md");
+    let (r, p) = (
+        results.to_str().expect("utf-8"),
+        page.to_str().expect("utf-8"),
+    );
+    let o = run_bench(&["docs", "--results", r, "--out", p]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&page).expect("the page");
+    assert!(
+        text.contains("**Run:** 2026-01-02, binary of commit abc1234. Results: [`run.md`](../results/run.md).\n\n```sh\nkss-bench --quick\n```"),
+        "{text}"
+    );
+    assert!(text.contains("| workload | wall |\n| --- | ---: |\n| b | 2 s |\n\n*From [`run.md`](../results/run.md), “Numbers”; run of 2026-01-02, commit abc1234.*"), "{text}");
+    assert!(text.contains("See [the run](../results/run.md)."), "{text}");
+    let o = run_bench(&["docs", "--results", r, "--out", p, "--check"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+
+    // a page edited by hand is refused, and the message says how to write it
+    std::fs::write(&page, text.replace("2 s", "3 s")).expect("edit the page");
+    let o = run_bench(&["docs", "--results", r, "--out", p, "--check"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("cargo run -p kss-bench -- docs"),
+        "{}",
+        stderr(&o)
+    );
+
+    // a run whose results file does not record its commit is refused
+    let source = results.join("page").join("00.md");
+    let s = std::fs::read_to_string(&source).expect("read the source");
+    std::fs::write(&source, s.replace("commit: abc1234", "commit: def5678")).expect("edit");
+    let o = run_bench(&["docs", "--results", r, "--out", p]);
+    assert_eq!(o.status.code(), Some(5), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("does not record the commit def5678"),
+        "{}",
+        stderr(&o)
+    );
+
+    // so is a results file that the page does not name
+    std::fs::write(&source, s).expect("restore");
+    std::fs::write(results.join("other.md"), "# Other\n").expect("write other.md");
+    let o = run_bench(&["docs", "--results", r, "--out", p]);
+    assert_eq!(o.status.code(), Some(5), "{}", stderr(&o));
+    assert!(stderr(&o).contains("other.md"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(&dir);
+}
