@@ -14,13 +14,17 @@
 //!   built-in response), advance again.
 //! - [`scenario`]: the input data and its errors; [`gen`]: scenario generators.
 //! - [`num`]: exact numbers and the exact, filtered order of event [`num::Time`]s.
-//! - [`geom`], [`motion`]: exact predicates and certificate functions.
-//! - [`hier`]: the per-polygon hierarchy of outer approximations (static).
 //! - [`sim`]: the event queue; [`world`]: bodies, flight plans, collision policy.
-//! - [`structure`]: the kinetic separation structure (construction,
-//!   certificates, local operations, local repair, pops and merges of the
-//!   approximations, audit); [`runner`]: the engines behind [`run`].
+//! - [`runner`]: the engines behind [`run`], and snapshots of a run.
 //! - [`brute`]: the all-pairs reference; [`render`]: SVG pictures.
+//!
+//! The geometry kernel (`geom`), moving points and certificate functions
+//! (`motion`), the per-polygon hierarchy of outer approximations (`hier`),
+//! the exact constrained triangulation (`cdt`) and the kinetic separation
+//! structure itself (`structure`: construction, certificates, local
+//! operations, local repair, pops and merges, audit) are internal. The cargo
+//! feature `internals` makes them public for debugging tools and property
+//! tests; they are not a stable API.
 //!
 //! # Should I use this?
 //!
@@ -127,12 +131,28 @@
 #![warn(missing_docs)]
 
 pub mod brute;
+#[cfg(feature = "internals")]
 pub mod cdt;
+#[cfg(not(feature = "internals"))]
+#[allow(dead_code)]
+pub(crate) mod cdt;
 mod engine;
 pub mod gen;
+#[cfg(feature = "internals")]
 pub mod geom;
+#[cfg(not(feature = "internals"))]
+#[allow(dead_code)]
+pub(crate) mod geom;
+#[cfg(feature = "internals")]
 pub mod hier;
+#[cfg(not(feature = "internals"))]
+#[allow(dead_code)]
+pub(crate) mod hier;
+#[cfg(feature = "internals")]
 pub mod motion;
+#[cfg(not(feature = "internals"))]
+#[allow(dead_code)]
+pub(crate) mod motion;
 pub mod num;
 pub mod render;
 pub mod rng;
@@ -140,7 +160,11 @@ pub mod runner;
 pub mod scenario;
 pub mod sim;
 pub mod simulation;
+#[cfg(feature = "internals")]
 pub mod structure;
+#[cfg(not(feature = "internals"))]
+#[allow(dead_code)]
+pub(crate) mod structure;
 pub mod world;
 
 pub use runner::{

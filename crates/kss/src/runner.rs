@@ -9,8 +9,8 @@ pub use crate::engine::{RunError, StructureKind};
 use crate::num::{Rational, Time};
 use crate::scenario::{CollisionMode, PolygonSpec, Scenario};
 use crate::simulation::{Finder, SimError, SimOptions, Simulation};
-use crate::structure::engine::Kinetic;
 use crate::structure::geo::{Geo, Shapes};
+use crate::structure::kinetic::Kinetic;
 use crate::world::World;
 
 /// The default of [`RunOptions::approximate_above`]: the hierarchy sees
@@ -133,7 +133,7 @@ pub struct RunStats {
     pub stand_in_ends: u64,
     /// The kinetic structure's work by kind (construction included; empty
     /// for `brute`): predicate evaluations by the path they took and
-    /// corridor walks (names in [`crate::structure::counters::NAMES`]).
+    /// corridor walks (by name).
     pub work: BTreeMap<String, u64>,
     /// Wall time, in seconds, of building the exact world from the
     /// scenario (with its validation) and the structure with its
@@ -299,7 +299,7 @@ pub fn plain_state_at(
 /// if `options.structure` says so), and with the structure itself in
 /// [`crate::render::Snapshot::structure`]: partition triangles, corridor
 /// faces, bridges, the `highlight` certificates that fail first (see
-/// [`crate::structure::view::overlay`]) and, for the hierarchy, the outer
+/// `structure::view::overlay`) and, for the hierarchy, the outer
 /// approximations. If the run ended before `time` (see
 /// [`PlainState::ended`]), the structure carries a note instead.
 pub fn structure_snapshot_at(

@@ -3,6 +3,7 @@ use std::f64::consts::TAU;
 
 use proptest::prelude::*;
 
+use super::array::Entry;
 use super::levels::{gap, is_dyadic, is_sibling_merge, level, top};
 use super::*;
 use crate::gen::{gas, regular_polygon, strict_convex_hull, GasParams};

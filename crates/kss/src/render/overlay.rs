@@ -4,7 +4,7 @@
 //!
 //! The data drawn are plain doubles for display only ([`StructureOverlay`]);
 //! they are extracted from the exact structure by
-//! [`crate::structure::view::overlay`] and never feed back into a simulation.
+//! `structure::view::overlay` and never feed back into a simulation.
 
 use crate::structure::view::{Segment, StructureOverlay};
 use std::fmt::Write as _;
