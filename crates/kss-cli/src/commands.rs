@@ -353,7 +353,7 @@ fn gas_params(a: &GasArgs, g: &GenArgs) -> Result<gen::GasParams, CliError> {
         changes: a.changes.unwrap_or(d.changes),
         seed: g.seed,
     };
-    p.check().map_err(invalid)?;
+    p.check().map_err(|e| invalid(e.0))?;
     Ok(p)
 }
 
@@ -440,7 +440,7 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 mode: mode_or(args, d.mode),
                 seed: args.seed,
             };
-            p.check().map_err(invalid)?;
+            p.check().map_err(|e| invalid(e.0))?;
             let (sc, info) = gen::flypast_with_info(&p);
             eprintln!(
                 "kss gen flypast: n = {}, diameter = {}, requested gap {}, achieved gap {:e}{}",
@@ -464,7 +464,7 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 offset: a.offset.unwrap_or(d.offset),
                 slowdown: a.slowdown.unwrap_or(d.slowdown),
             };
-            p.check().map_err(invalid)?;
+            p.check().map_err(|e| invalid(e.0))?;
             gen::far(&p)
         }
         GenFamily::Simultaneous(a) => {
@@ -477,7 +477,7 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 small: false,
                 seed: args.seed,
             };
-            p.check().map_err(invalid)?;
+            p.check().map_err(|e| invalid(e.0))?;
             gen::simultaneous(&p)
         }
         GenFamily::Grazing(a) | GenFamily::Parallel(a) => {
@@ -489,7 +489,7 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 small: false,
                 seed: args.seed,
             };
-            p.check().map_err(invalid)?;
+            p.check().map_err(|e| invalid(e.0))?;
             if family == Some(gen::Family::Grazing) {
                 gen::grazing(&p)
             } else {
@@ -506,7 +506,7 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 until: a.until,
                 seed: args.seed,
             };
-            p.check().map_err(invalid)?;
+            p.check().map_err(|e| invalid(e.0))?;
             let sc = gen::swarm(&p);
             eprintln!(
                 "kss gen swarm: {} regular {}-gons, until {}{}",
@@ -533,7 +533,7 @@ pub fn generate(args: &GenArgs) -> Result<Scenario, CliError> {
                 until: a.until.unwrap_or(d.until),
                 seed: args.seed,
             };
-            p.check().map_err(invalid)?;
+            p.check().map_err(|e| invalid(e.0))?;
             let sc = gen::churn(&p);
             eprintln!(
                 "kss gen churn: {} polygons at the start, {} insertions, {} removals, {} flight-plan changes, until {}",

@@ -14,7 +14,7 @@ use crate::num::{Rational, Time};
 use crate::structure::geo::{Geo, Shapes};
 use crate::structure::kinetic::{Kinetic, Rebuild, Step};
 use crate::structure::ops::EventKind;
-use crate::structure::{refine, Att, Obj};
+use crate::structure::{refine, Att, Obj, StructureError};
 use crate::world::{BodyId, World};
 
 /// The kinetic separation structure, on the polygons (`plain`) or on their
@@ -127,8 +127,8 @@ impl KineticEngine {
         let mut pops = 0;
         if hierarchical {
             shapes = refine::coarsest_shapes(world, approximate_above);
-            pops = refine::separate_all_at(world, &mut shapes, &Rational::zero())
-                .map_err(RunError::Internal)?;
+            pops =
+                refine::separate_all_at(world, &mut shapes, &Rational::zero()).map_err(internal)?;
         }
         let mut k = Kinetic::new(
             &Geo {
@@ -148,7 +148,7 @@ impl KineticEngine {
                 0
             };
             if popped == 0 {
-                return Err(RunError::Internal(e.clone()));
+                return Err(internal(e));
             }
             pops += popped;
             k = Kinetic::new(
@@ -159,7 +159,7 @@ impl KineticEngine {
                 &Rational::zero(),
             );
         }
-        let mut k = k.map_err(RunError::Internal)?;
+        let mut k = k.map_err(internal)?;
         if pops > 0 {
             k.tally.events(EventKind::InitialPop, pops);
         }
@@ -223,9 +223,11 @@ impl KineticEngine {
             }
         }
         if !self.shapes.per.is_empty() {
-            refine::check_apart(world, &self.shapes, at)?;
+            refine::check_apart(world, &self.shapes, at).map_err(|e| e.to_string())?;
         }
-        self.k.audit(&self.geo(world), now, at)
+        self.k
+            .audit(&self.geo(world), now, at)
+            .map_err(|e| e.to_string())
     }
 
     /// Approximations touch at `t` where the polygons do not: pop the
@@ -256,7 +258,7 @@ impl KineticEngine {
         let mut pops_in = LocalPops::new(&mut self.k, world, t);
         let mut popper = |shapes: &mut Shapes, a: Att| pops_in.pop(shapes, a);
         for a in popped {
-            pops += u64::from(popper(&mut self.shapes, a).map_err(RunError::Internal)?);
+            pops += u64::from(popper(&mut self.shapes, a).map_err(internal)?);
         }
         let mut bodies: Vec<BodyId> = triples
             .iter()
@@ -277,7 +279,7 @@ impl KineticEngine {
                     t,
                     &mut popper,
                 )
-                .map_err(RunError::Internal)?;
+                .map_err(internal)?;
             }
         }
         let local = pops_in.local;
@@ -296,7 +298,7 @@ impl KineticEngine {
         } else {
             self.k
                 .rebuild_after(&geo, t, Rebuild::Refine)
-                .map_err(RunError::Internal)?;
+                .map_err(internal)?;
         }
         Ok(())
     }
@@ -323,7 +325,7 @@ impl<'a> LocalPops<'a> {
     }
 
     /// Pop `a`; whether the approximation changed.
-    fn pop(&mut self, shapes: &mut Shapes, a: Att) -> Result<bool, String> {
+    fn pop(&mut self, shapes: &mut Shapes, a: Att) -> Result<bool, StructureError> {
         if self.local {
             let (changed, followed) = self.k.pop_local(self.world, shapes, a, self.t)?;
             self.local = followed;
@@ -392,7 +394,7 @@ impl KineticEngine {
             };
             if world.body(a).alive && world.body(b).alive && !again() {
                 pops += refine::unslide_after(world, &mut self.shapes, (a, b), t, &mut popper)
-                    .map_err(RunError::Internal)?;
+                    .map_err(internal)?;
             }
         }
         let local = pops_in.local;
@@ -410,7 +412,7 @@ impl KineticEngine {
             if !self.k.repair_refined(&geo, &bodies, &[], t) {
                 self.k
                     .rebuild_after(&geo, t, Rebuild::Refine)
-                    .map_err(RunError::Internal)?;
+                    .map_err(internal)?;
             }
         }
         Ok(())
@@ -494,8 +496,7 @@ impl KineticEngine {
         let mut shapes = Shapes::default();
         if self.hierarchical {
             shapes = refine::coarsest_shapes(world, self.approximate_above);
-            refine::separate_all_strictly_after(world, &mut shapes, now)
-                .map_err(RunError::Internal)?;
+            refine::separate_all_strictly_after(world, &mut shapes, now).map_err(internal)?;
         }
         let geo = Geo {
             world,
@@ -745,7 +746,7 @@ impl KineticEngine {
             let stepped = self
                 .k
                 .step(&geo, limit, &contacts, &collides)
-                .map_err(RunError::Internal)?;
+                .map_err(internal)?;
             let touched = self.k.take_settled();
             if let (
                 false,
@@ -805,10 +806,10 @@ impl KineticEngine {
                             };
                             // (a failed repair may have left its region
                             // half changed: the whole structure is rebuilt)
-                            if !self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)? {
+                            if !self.k.repair_cycle(&geo, &t).map_err(internal)? {
                                 self.k
                                     .rebuild_after(&geo, &t, Rebuild::Degenerate)
-                                    .map_err(RunError::Internal)?;
+                                    .map_err(internal)?;
                                 rebuilt_now = true;
                             }
                             ops_now = 0;
@@ -830,12 +831,12 @@ impl KineticEngine {
                                 // cycle first (once per instant), else
                                 // everything
                                 let repaired = !repaired_cycle_now
-                                    && self.k.repair_cycle(&geo, &t).map_err(RunError::Internal)?;
+                                    && self.k.repair_cycle(&geo, &t).map_err(internal)?;
                                 repaired_cycle_now = true;
                                 if !repaired {
                                     self.k
                                         .rebuild_after(&geo, &t, Rebuild::Degenerate)
-                                        .map_err(RunError::Internal)?;
+                                        .map_err(internal)?;
                                     rebuilt_now = true;
                                 }
                             } else {
@@ -854,7 +855,7 @@ impl KineticEngine {
                     if contacts.is_empty() && refine_at.is_none() {
                         self.k
                             .coarsen(world, &mut self.shapes, &t)
-                            .map_err(RunError::Internal)?;
+                            .map_err(internal)?;
                     }
                     if self.audit && contacts.is_empty() && self.settled.is_none() {
                         self.audit_now(world, &t)?;
@@ -920,11 +921,7 @@ impl KineticEngine {
                 world,
                 shapes: &self.shapes,
             };
-            if self
-                .k
-                .insert_body(&geo, b, now)
-                .map_err(RunError::Internal)?
-            {
+            if self.k.insert_body(&geo, b, now).map_err(internal)? {
                 return Ok(());
             }
         }
@@ -934,7 +931,7 @@ impl KineticEngine {
             shapes.per[b.index()] = refine::coarsest_shape(world.body(b), self.approximate_above);
             if let Err(e) = refine::separate_all_strictly_after(world, &mut shapes, now) {
                 self.k.unbuildable = Some(now.clone());
-                return Err(RunError::Internal(e));
+                return Err(internal(e));
             }
         }
         let geo = Geo {
@@ -943,7 +940,7 @@ impl KineticEngine {
         };
         self.k
             .rebuild_after(&geo, now, Rebuild::Insertion)
-            .map_err(RunError::Internal)?;
+            .map_err(internal)?;
         self.shapes = shapes;
         Ok(())
     }
@@ -970,10 +967,7 @@ impl KineticEngine {
                         world,
                         shapes: &self.shapes,
                     };
-                    local = self
-                        .k
-                        .remove_body(&geo, b, now)
-                        .map_err(RunError::Internal)?;
+                    local = self.k.remove_body(&geo, b, now).map_err(internal)?;
                 }
                 if let Some(slot) = self.shapes.per.get_mut(b.index()) {
                     *slot = None;
@@ -990,9 +984,7 @@ impl KineticEngine {
                     .copied()
                     .filter(|&b| world.body(b).alive)
                     .collect();
-                self.k
-                    .motion_changed(&geo, now, &alive)
-                    .map_err(RunError::Internal)?;
+                self.k.motion_changed(&geo, now, &alive).map_err(internal)?;
             } else {
                 // at the instant itself, or, where that fails (other
                 // polygons touch there), for just after it: every contact
@@ -1009,9 +1001,7 @@ impl KineticEngine {
                 world,
                 shapes: &self.shapes,
             };
-            self.k
-                .motion_changed(&geo, now, bodies)
-                .map_err(RunError::Internal)?;
+            self.k.motion_changed(&geo, now, bodies).map_err(internal)?;
             let mut pairs = reported.to_vec();
             if let Some((t, settled)) = self.settled.take() {
                 if t == *now {
@@ -1048,6 +1038,12 @@ fn reference_collides(
         crate::brute::ContactInterval::During { start: Some(s), .. } => s == *r,
         _ => false,
     }
+}
+
+/// A failure of the structure that the engine cannot recover from, as the
+/// run's internal error.
+fn internal(e: impl std::fmt::Display) -> RunError {
+    RunError::Internal(e.to_string())
 }
 
 /// Append to `pairs` those of `new` that it does not hold yet, in either

@@ -1,5 +1,6 @@
 //! [`churn`]: polygons entering and leaving while the scene runs.
 
+use super::InvalidParams;
 use std::f64::consts::TAU;
 
 use super::gas::random_convex_polygon;
@@ -37,18 +38,24 @@ impl Default for ChurnParams {
 
 impl ChurnParams {
     /// Checks the parameters; the error says which one is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidParams> {
         if self.k > 1 << 16 {
-            return Err(format!("k is {}: at most 65536 polygons", self.k));
+            return Err(InvalidParams(format!(
+                "k is {}: at most 65536 polygons",
+                self.k
+            )));
         }
         if self.clusters > 1 << 10 {
-            return Err(format!("clusters is {}: at most 1024", self.clusters));
+            return Err(InvalidParams(format!(
+                "clusters is {}: at most 1024",
+                self.clusters
+            )));
         }
         if !(self.until.is_finite() && (1.0..=1e6).contains(&self.until)) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "until is {}: it must be a number between 1 and 1e6",
                 self.until
-            ));
+            )));
         }
         Ok(())
     }

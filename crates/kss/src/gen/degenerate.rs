@@ -1,6 +1,7 @@
 //! Exact degeneracies on the integer lattice: [`simultaneous`], [`grazing`]
 //! and [`parallel`], built by a [`Lattice`] of small integer polygons.
 
+use super::InvalidParams;
 use std::f64::consts::TAU;
 
 use super::hull::hull_i64;
@@ -52,12 +53,17 @@ impl Default for SimultaneousParams {
 
 impl SimultaneousParams {
     /// Checks the parameters; the error says which one is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidParams> {
         if self.pairs == 0 && !self.triple {
-            return Err("no pairs and no triple: nothing to generate".to_string());
+            return Err(InvalidParams(
+                "no pairs and no triple: nothing to generate".to_string(),
+            ));
         }
         if self.pairs > 100_000 {
-            return Err(format!("pairs is {}: at most 100000", self.pairs));
+            return Err(InvalidParams(format!(
+                "pairs is {}: at most 100000",
+                self.pairs
+            )));
         }
         check_mode_until(self.until)
     }
@@ -92,12 +98,15 @@ impl Default for DegenerateParams {
 
 impl DegenerateParams {
     /// Checks the parameters; the error says which one is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidParams> {
         if self.pairs == 0 {
-            return Err("pairs is 0: nothing to generate".to_string());
+            return Err(InvalidParams("pairs is 0: nothing to generate".to_string()));
         }
         if self.pairs > 100_000 {
-            return Err(format!("pairs is {}: at most 100000", self.pairs));
+            return Err(InvalidParams(format!(
+                "pairs is {}: at most 100000",
+                self.pairs
+            )));
         }
         check_mode_until(self.until)
     }

@@ -8,6 +8,7 @@
 //! diameter 1e-300 and gap 1e99), where `crate::num::Rational::to_f64` gives
 //! a finite number.
 
+use super::InvalidParams;
 use std::f64::consts::{PI, TAU};
 
 use dashu_int::IBig;
@@ -54,38 +55,41 @@ impl Default for FlypastParams {
 
 impl FlypastParams {
     /// Checks the parameters; the error says which one is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidParams> {
         if self.n < 3 || self.n > 1 << 24 {
-            return Err(format!("n is {}: it must be between 3 and 2^24", self.n));
+            return Err(InvalidParams(format!(
+                "n is {}: it must be between 3 and 2^24",
+                self.n
+            )));
         }
         if !(self.diameter.is_finite() && self.diameter > 0.0 && self.diameter < 1e100) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "diameter is {}: it must be a finite number > 0",
                 self.diameter
-            ));
+            )));
         }
         if !(self.gap.is_finite() && self.gap >= -self.diameter / 2.0 && self.gap < 1e100) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "gap is {}: it must be finite and at least -diameter/2 = {}",
                 self.gap,
                 -self.diameter / 2.0
-            ));
+            )));
         }
         if !(self.speed.is_finite() && self.speed > 0.0 && self.speed < 1e100) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "speed is {}: it must be a finite number > 0",
                 self.speed
-            ));
+            )));
         }
         // the construction squares the speed and divides the sizes by it
         let span = 3.0 * (self.diameter + self.gap.abs()) / self.speed;
         if !(self.speed * self.speed >= f64::MIN_POSITIVE && span.is_finite()) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "speed is {:?}: too slow for diameter {:?} and gap {:?} (the run would last \
                  beyond the doubles' range); use a speed above 1e-150 and at least \
                  (diameter + |gap|) * 1e-300",
                 self.speed, self.diameter, self.gap
-            ));
+            )));
         }
         Ok(())
     }

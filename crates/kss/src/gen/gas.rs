@@ -2,6 +2,7 @@
 //! walls) and [`far`] (a gas scene far from the origin), with the walls and
 //! the random polygons that other families share.
 
+use super::InvalidParams;
 use std::f64::consts::TAU;
 
 use super::flypast::regular_polygon;
@@ -52,31 +53,36 @@ impl Default for GasParams {
 
 impl GasParams {
     /// Checks the parameters; the error says which one is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidParams> {
         if self.k > 1 << 22 {
-            return Err(format!("k is {}: at most 2^22 polygons", self.k));
+            return Err(InvalidParams(format!(
+                "k is {}: at most 2^22 polygons",
+                self.k
+            )));
         }
         if self.min_n < 3 {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "min_n is {}: a polygon needs 3 vertices",
                 self.min_n
-            ));
+            )));
         }
         if self.max_n < self.min_n || self.max_n > 1 << 16 {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "max_n is {}: it must be between min_n = {} and 65536",
                 self.max_n, self.min_n
-            ));
+            )));
         }
         check_mode_until(Some(self.until))?;
         if !(self.max_speed.is_finite() && self.max_speed >= 0.0 && self.max_speed < 1e100) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "max_speed is {}: it must be a finite number >= 0",
                 self.max_speed
-            ));
+            )));
         }
         if self.k == 0 && !self.walls {
-            return Err("k is 0 and there are no walls: nothing to generate".to_string());
+            return Err(InvalidParams(
+                "k is 0 and there are no walls: nothing to generate".to_string(),
+            ));
         }
         Ok(())
     }
@@ -230,19 +236,22 @@ impl Default for FarParams {
 
 impl FarParams {
     /// Checks the parameters; the error says which one is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidParams> {
         self.gas.check()?;
         if !(self.offset.is_finite() && self.offset.abs() <= 1e12) {
-            return Err(format!("offset is {}: at most 1e12 in size", self.offset));
+            return Err(InvalidParams(format!(
+                "offset is {}: at most 1e12 in size",
+                self.offset
+            )));
         }
         let s = self.slowdown;
         if !((1.0..=1e9).contains(&s) && s.log2().fract() == 0.0) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "slowdown is {s}: it must be a power of two between 1 and 2^29"
-            ));
+            )));
         }
         if !(self.gas.until * s).is_finite() {
-            return Err("until times slowdown overflows".to_string());
+            return Err(InvalidParams("until times slowdown overflows".to_string()));
         }
         Ok(())
     }

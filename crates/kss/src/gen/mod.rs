@@ -229,18 +229,24 @@ pub fn generate_small(family: Family, seed: u64) -> Scenario {
     }
 }
 
+/// Why a generator refused its parameters: the message names the parameter
+/// and the rule it breaks.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidParams(pub String);
+
 /// Panics with the message of a failed parameter check.
-fn check_or_panic(check: Result<(), String>) {
+fn check_or_panic(check: Result<(), InvalidParams>) {
     if let Err(msg) = check {
         panic!("invalid generator parameters: {msg}");
     }
 }
 
-fn check_mode_until(until: Option<f64>) -> Result<(), String> {
+fn check_mode_until(until: Option<f64>) -> Result<(), InvalidParams> {
     match until {
-        Some(u) if !(u.is_finite() && u > 0.0) => {
-            Err(format!("until is {u}: it must be a finite number > 0"))
-        }
+        Some(u) if !(u.is_finite() && u > 0.0) => Err(InvalidParams(format!(
+            "until is {u}: it must be a finite number > 0"
+        ))),
         _ => Ok(()),
     }
 }

@@ -1,6 +1,7 @@
 //! [`swarm`]: the benchmarks' swarms of regular n-gons in a box of walls,
 //! and [`swarm_until`], their calibrated end of the interval.
 
+use super::InvalidParams;
 use std::f64::consts::{PI, TAU};
 
 use super::flypast::regular_polygon;
@@ -44,18 +45,24 @@ impl Default for SwarmParams {
 
 impl SwarmParams {
     /// Checks the parameters; the error says which one is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidParams> {
         if self.k == 0 || self.k > 1 << 22 {
-            return Err(format!("k is {}: it must be between 1 and 2^22", self.k));
+            return Err(InvalidParams(format!(
+                "k is {}: it must be between 1 and 2^22",
+                self.k
+            )));
         }
         if self.n < 3 || self.n > 1 << 16 {
-            return Err(format!("n is {}: it must be between 3 and 65536", self.n));
+            return Err(InvalidParams(format!(
+                "n is {}: it must be between 3 and 65536",
+                self.n
+            )));
         }
         let c = self.collisions_per_polygon;
         if !(c.is_finite() && c > 0.0 && c <= 1e6) {
-            return Err(format!(
+            return Err(InvalidParams(format!(
                 "collisions_per_polygon is {c}: it must be a number > 0 and at most 1e6"
-            ));
+            )));
         }
         check_mode_until(self.until)
     }

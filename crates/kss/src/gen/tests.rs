@@ -579,7 +579,7 @@ fn swarm_refuses_bad_parameters() {
         ),
     ] {
         let e = bad.check().unwrap_err();
-        assert!(e.contains(want), "{e}");
+        assert!(e.0.contains(want), "{e}");
     }
 }
 

@@ -1,5 +1,6 @@
 //! The replicated edge array of one body polygon (design note §B.1).
 
+use super::HierarchyError;
 use std::f64::consts::PI;
 
 use super::exposed::Exposed;
@@ -634,7 +635,7 @@ impl EdgeArray {
     /// its base segment are strictly inside. For a convex polygon local
     /// support is global support (the polygon lies in the cone at the base
     /// segment spanned by the two neighbouring edges).
-    fn supports_locally(&self, body: &BodyPolygon, k: usize) -> Result<(), String> {
+    fn supports_locally(&self, body: &BodyPolygon, k: usize) -> Result<(), HierarchyError> {
         let e = &self.entries[k];
         let n = self.n;
         let on = |v: usize| {
@@ -642,55 +643,69 @@ impl EdgeArray {
             e.side(x, y)
         };
         if on(e.start) != Sign::Zero || on(e.end) != Sign::Zero {
-            return Err(format!("entry {k}: a base vertex is not on its line"));
+            return Err(HierarchyError(format!(
+                "entry {k}: a base vertex is not on its line"
+            )));
         }
         if on((e.start + n - 1) % n) != Sign::Negative || on((e.end + 1) % n) != Sign::Negative {
-            return Err(format!(
+            return Err(HierarchyError(format!(
                 "entry {k}: a neighbouring vertex is not strictly inside"
-            ));
+            )));
         }
         Ok(())
     }
 
     /// Check every invariant of the array against `body` (the polygon it was
     /// built from), exactly, in `O(M + n)`.
-    pub fn check(&self, body: &BodyPolygon) -> Result<(), String> {
+    pub fn check(&self, body: &BodyPolygon) -> Result<(), HierarchyError> {
         let (n, m) = (self.n, self.m());
         if body.len() != n {
-            return Err(format!("built for {n} vertices, body has {}", body.len()));
+            return Err(HierarchyError(format!(
+                "built for {n} vertices, body has {}",
+                body.len()
+            )));
         }
         if m != 1 << self.h || m < n || m > 4 * n {
-            return Err(format!("M = {m} (h = {}) for n = {n}", self.h));
+            return Err(HierarchyError(format!(
+                "M = {m} (h = {}) for n = {n}",
+                self.h
+            )));
         }
         if self.edge_entry.len() != n || self.edge_entry[0] != 0 {
-            return Err("real edge 0 is not entry 0".into());
+            return Err(HierarchyError("real edge 0 is not entry 0".into()));
         }
         for i in 0..n {
             let k = self.edge_entry[i];
             let next = if i + 1 < n { self.edge_entry[i + 1] } else { m };
             if next <= k {
-                return Err(format!("real edges {i} and {} out of order", i + 1));
+                return Err(HierarchyError(format!(
+                    "real edges {i} and {} out of order",
+                    i + 1
+                )));
             }
             let e = &self.entries[k];
             let v = (i + 1) % n;
             let (x0, y0) = body.int_vertex(i);
             let (x1, y1) = body.int_vertex(v);
             if e.start != i || e.end != v || e.nx != y1 - y0 || e.ny != x0 - x1 {
-                return Err(format!("entry {k} is not real edge {i}"));
+                return Err(HierarchyError(format!("entry {k} is not real edge {i}")));
             }
             if let Some(bad) = (k + 1..next).find(|&j| {
                 let z = &self.entries[j];
                 z.start != v || z.end != v
             }) {
-                return Err(format!(
+                return Err(HierarchyError(format!(
                     "entry {bad} is not a zero-length entry at vertex {v}"
-                ));
+                )));
             }
         }
         for k in 0..m {
             self.supports_locally(body, k)?;
             if !self.turn_is_acute(k, (k + 1) & (m - 1)) {
-                return Err(format!("entries {k} and {}: turn not in (0, π/2)", k + 1));
+                return Err(HierarchyError(format!(
+                    "entries {k} and {}: turn not in (0, π/2)",
+                    k + 1
+                )));
             }
         }
         // Consecutive turns in (0, π/2) and real edges in order: the normals
@@ -704,7 +719,9 @@ impl EdgeArray {
                 .all(|k| self.turn_is_acute(k, (k + step) & (m - 1)))
         };
         if !layer_ok(step) || (l < self.h && layer_ok(2 * step)) {
-            return Err(format!("{l} is not the coarsest acute layer"));
+            return Err(HierarchyError(format!(
+                "{l} is not the coarsest acute layer"
+            )));
         }
         Ok(())
     }
@@ -716,23 +733,29 @@ impl EdgeArray {
     /// and every exposed line supports the polygon (so the approximate
     /// polygon contains it). `O(|S| log M)`; the array itself is assumed
     /// valid ([`EdgeArray::check`]).
-    pub fn check_exposed(&self, body: &BodyPolygon, s: &Exposed) -> Result<(), String> {
+    pub fn check_exposed(&self, body: &BodyPolygon, s: &Exposed) -> Result<(), HierarchyError> {
         if s.universe() != self.m() {
-            return Err(format!(
+            return Err(HierarchyError(format!(
                 "exposed set over {} indices, array has {}",
                 s.universe(),
                 self.m()
-            ));
+            )));
         }
-        let first = s.select(0).ok_or("empty exposed set")?;
+        let first = s
+            .select(0)
+            .ok_or_else(|| HierarchyError("empty exposed set".into()))?;
         let mut i = first;
         loop {
             let j = s.succ(i).expect("non-empty");
             if !levels::is_dyadic(i, j, self.h) {
-                return Err(format!("gap ({i}, {j}) is not a dyadic block"));
+                return Err(HierarchyError(format!(
+                    "gap ({i}, {j}) is not a dyadic block"
+                )));
             }
             if !self.turn_is_acute(i, j) {
-                return Err(format!("gap ({i}, {j}) does not turn by less than π/2"));
+                return Err(HierarchyError(format!(
+                    "gap ({i}, {j}) does not turn by less than π/2"
+                )));
             }
             self.supports_locally(body, j)?;
             if j == first {
@@ -744,13 +767,19 @@ impl EdgeArray {
 
     /// Brute-force containment: every base vertex is in every exposed
     /// half-plane, exactly. `O(n·|S|)`; for tests and deep audits.
-    pub fn check_containment_brute(&self, body: &BodyPolygon, s: &Exposed) -> Result<(), String> {
+    pub fn check_containment_brute(
+        &self,
+        body: &BodyPolygon,
+        s: &Exposed,
+    ) -> Result<(), HierarchyError> {
         for k in s.iter() {
             let e = &self.entries[k];
             for v in 0..body.len() {
                 let (x, y) = body.int_vertex(v);
                 if e.side(x, y) == Sign::Positive {
-                    return Err(format!("vertex {v} is outside exposed line {k}"));
+                    return Err(HierarchyError(format!(
+                        "vertex {v} is outside exposed line {k}"
+                    )));
                 }
             }
         }

@@ -47,7 +47,12 @@ mod array;
 mod exposed;
 pub mod levels;
 
-pub use array::{EdgeArray, Entry, HomPoint};
+pub use array::{EdgeArray, HomPoint};
+
+/// A broken invariant of a polygon's hierarchy, found by its checks.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct HierarchyError(pub String);
 pub use exposed::Exposed;
 
 #[cfg(test)]

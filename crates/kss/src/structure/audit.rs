@@ -2,6 +2,7 @@
 
 use super::geo::Geo;
 use super::{Att, Kss, Obj};
+use crate::structure::StructureError;
 
 impl Kss {
     /// Check the combinatorial invariants: `2k − 2` partition triangles and
@@ -9,39 +10,41 @@ impl Kss {
     /// triangle on three objects, each corridor linked from both its ends,
     /// chains that run from one end to the other, and chains that cover
     /// every polygon edge exactly once.
-    pub fn check_topology(&self, world: &Geo) -> Result<(), String> {
+    pub fn check_topology(&self, world: &Geo) -> Result<(), StructureError> {
         let k = world.bodies().iter().filter(|b| b.alive).count();
         if k < 2 {
             return if self.tris.is_empty() && self.corrs.is_empty() {
                 Ok(())
             } else {
-                Err("structure for fewer than two bodies".into())
+                Err(StructureError::Invariant(
+                    "structure for fewer than two bodies".into(),
+                ))
             };
         }
         if self.tris.len() != 2 * k - 2 || self.corrs.len() != 3 * k - 3 {
-            return Err(format!(
+            return Err(StructureError::Invariant(format!(
                 "{} partition triangles and {} corridors for k = {k} (want {} and {})",
                 self.tris.len(),
                 self.corrs.len(),
                 2 * k - 2,
                 3 * k - 3
-            ));
+            )));
         }
         for (ti, t) in self.tris.iter().enumerate() {
             let [x, y, z] = t.c;
             if x.obj == y.obj || y.obj == z.obj || x.obj == z.obj {
-                return Err(format!(
+                return Err(StructureError::Invariant(format!(
                     "partition triangle {ti} has two corners on one object"
-                ));
+                )));
             }
             for i in 0..3 {
                 let c = &self.corrs[t.corr[i].0 as usize];
                 let here = (super::TriId(ti as u32), i as u8);
                 if c.s != here && c.t != here {
-                    return Err(format!(
+                    return Err(StructureError::Invariant(format!(
                         "corridor {:?} does not link back to triangle {ti}",
                         t.corr[i]
-                    ));
+                    )));
                 }
             }
         }
@@ -51,24 +54,30 @@ impl Kss {
         for (ki, c) in self.corrs.iter().enumerate() {
             let (a_s, b_s, a_t, b_t) = self.ends(super::CorrId(ki as u32));
             if a_s.obj != c.a || a_t.obj != c.a || b_s.obj != c.b || b_t.obj != c.b {
-                return Err(format!("corridor {ki}: ends on the wrong objects"));
+                return Err(StructureError::Invariant(format!(
+                    "corridor {ki}: ends on the wrong objects"
+                )));
             }
             if c.a == Obj::Omega {
-                return Err(format!("corridor {ki}: A is ω"));
+                return Err(StructureError::Invariant(format!("corridor {ki}: A is ω")));
             }
             walk_chain(world, a_s, a_t, c.len_a, &mut covered)
-                .map_err(|e| format!("corridor {ki}, A-chain: {e}"))?;
+                .map_err(|e| e.within(format_args!("corridor {ki}, A-chain")))?;
             if c.b == Obj::Omega {
                 if c.len_b != 0 {
-                    return Err(format!("corridor {ki}: a chain on ω"));
+                    return Err(StructureError::Invariant(format!(
+                        "corridor {ki}: a chain on ω"
+                    )));
                 }
             } else {
                 walk_chain(world, b_t, b_s, c.len_b, &mut covered)
-                    .map_err(|e| format!("corridor {ki}, B-chain: {e}"))?;
+                    .map_err(|e| e.within(format_args!("corridor {ki}, B-chain")))?;
             }
             if let Some((i, j)) = c.mid {
                 if i > c.len_a || j > c.len_b {
-                    return Err(format!("corridor {ki}: middle bridge off its chains"));
+                    return Err(StructureError::Invariant(format!(
+                        "corridor {ki}: middle bridge off its chains"
+                    )));
                 }
             }
         }
@@ -78,11 +87,11 @@ impl Kss {
             }
             let ids = world.ids(crate::world::BodyId(bi as u32));
             if let Some(&e) = ids.iter().find(|&&e| cov[e as usize] != 1) {
-                return Err(format!(
+                return Err(StructureError::Invariant(format!(
                     "edge {e} of body {} is in {} corridor chains",
                     world.bodies()[bi].id,
                     cov[e as usize]
-                ));
+                )));
             }
         }
         Ok(())
@@ -97,13 +106,15 @@ fn walk_chain(
     to: Att,
     len: u32,
     covered: &mut [Vec<u8>],
-) -> Result<(), String> {
+) -> Result<(), StructureError> {
     let Obj::Body(b) = from.obj else {
-        return Err("chain on ω".into());
+        return Err(StructureError::Invariant("chain on ω".into()));
     };
     let n = world.count(b);
     if len > n {
-        return Err(format!("{len} edges on a {n}-gon"));
+        return Err(StructureError::Invariant(format!(
+            "{len} edges on a {n}-gon"
+        )));
     }
     let mut v = from;
     for _ in 0..len {
@@ -113,10 +124,10 @@ fn walk_chain(
     }
     let v = v.v;
     if v != to.v {
-        return Err(format!(
+        return Err(StructureError::Invariant(format!(
             "walked {len} edges from {} to {}, expected {}",
             from.v, v, to.v
-        ));
+        )));
     }
     Ok(())
 }
@@ -128,7 +139,11 @@ impl Kss {
     /// makes the faces tile the free space: a face whose sign pattern is a
     /// pseudo-triangle's but which wraps around a polygon has a bridge
     /// through that polygon. `O(bridges · N)` exact tests after a box filter.
-    pub fn check_bridges(&self, world: &Geo, t: &crate::num::Rational) -> Result<(), String> {
+    pub fn check_bridges(
+        &self,
+        world: &Geo,
+        t: &crate::num::Rational,
+    ) -> Result<(), StructureError> {
         use super::build::position;
         use crate::geom::{segment_meets_convex_interior, Point};
         let placed: Vec<Option<(Vec<Point>, [f64; 4])>> = world
@@ -201,9 +216,9 @@ impl Kss {
                     continue;
                 }
                 if segment_meets_convex_interior(&p, &q, pts) {
-                    return Err(format!(
+                    return Err(StructureError::Invariant(format!(
                         "bridge {x:?}–{y:?} passes through the interior of body {bi}"
-                    ));
+                    )));
                 }
             }
         }

@@ -13,6 +13,7 @@
 //! certificate. Turns that are identically zero (three points that stay on a
 //! line) never change and are not certificates.
 
+use crate::structure::StructureError;
 use std::collections::BTreeMap;
 
 use super::faces::turn_after;
@@ -103,14 +104,15 @@ impl Kss {
     /// is already wrong just after `t` (a degenerate start: three points
     /// collinear at `t`) is included with its required sign; the simulation
     /// processes it at once. Sorted and deduplicated.
-    pub fn certificates(&self, world: &Geo, t: &Time) -> Result<Vec<Cert>, String> {
+    pub fn certificates(&self, world: &Geo, t: &Time) -> Result<Vec<Cert>, StructureError> {
         let mut out: BTreeMap<[Att; 3], Cert> = BTreeMap::new();
-        let mut add = |c: Cert| -> Result<(), String> {
+        let mut add = |c: Cert| -> Result<(), StructureError> {
             let c = c.canonical();
             match out.get(&c.p) {
-                Some(old) if old.sign != c.sign => {
-                    Err(format!("contradictory certificates on {:?}", c.p))
-                }
+                Some(old) if old.sign != c.sign => Err(StructureError::Invariant(format!(
+                    "contradictory certificates on {:?}",
+                    c.p
+                ))),
                 Some(_) => Ok(()),
                 None => {
                     out.insert(c.p, c);

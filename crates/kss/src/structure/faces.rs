@@ -4,6 +4,7 @@ use super::geo::Geo;
 use super::{Att, CorrId, Kss, Obj};
 use crate::motion::orient_poly;
 use crate::num::{Sign, Time};
+use crate::structure::StructureError;
 
 /// Vertex `v − k` (clockwise by `k`) of the object of `a`.
 pub fn step_cw(world: &Geo, a: Att, k: u32) -> Att {
@@ -269,7 +270,7 @@ impl Kss {
     /// pseudo-triangle just after time `t`: exactly three convex vertices,
     /// every other vertex reflex; and that no middle bridge runs along
     /// flush edges of both its bodies.
-    pub fn check_faces(&self, world: &Geo, t: &Time) -> Result<(), String> {
+    pub fn check_faces(&self, world: &Geo, t: &Time) -> Result<(), StructureError> {
         for ki in 0..self.corrs.len() {
             let k = CorrId(ki as u32);
             if self.corrs[ki].b == Obj::Omega {
@@ -277,9 +278,9 @@ impl Kss {
             }
             if let Some(mid) = self.corrs[ki].mid {
                 if self.bridge_over_flush_edges(world, k, mid, (t, super::local::Side::After)) {
-                    return Err(format!(
+                    return Err(StructureError::Invariant(format!(
                         "corridor {ki}: the middle bridge runs along flush edges of both bodies"
-                    ));
+                    )));
                 }
             }
             for (fi, face) in self.corridor_faces(world, k).iter().enumerate() {
@@ -294,7 +295,9 @@ impl Kss {
                     if n == 2 && self.corrs[ki].len_a == 0 && self.corrs[ki].len_b == 0 {
                         continue; // an empty corridor
                     }
-                    return Err(format!("corridor {ki} face {fi} has {n} vertices"));
+                    return Err(StructureError::Invariant(format!(
+                        "corridor {ki} face {fi} has {n} vertices"
+                    )));
                 }
                 let mut convex = 0;
                 let mut all_zero = true;
@@ -310,16 +313,18 @@ impl Kss {
                         // the face (a convex corner of angle zero)
                         Sign::Zero if cusp_forever(world, u, v, w, t) => convex += 1,
                         Sign::Zero => {
-                            return Err(format!("corridor {ki} face {fi}: zero angle at {v:?}"));
+                            return Err(StructureError::Invariant(format!(
+                                "corridor {ki} face {fi}: zero angle at {v:?}"
+                            )));
                         }
                     }
                 }
                 // a flat face (two bodies sliding flush along a common
                 // line): two cusps, every other vertex straight
                 if convex != 3 && !(all_zero && convex == 2) {
-                    return Err(format!(
+                    return Err(StructureError::Invariant(format!(
                         "corridor {ki} face {fi} has {convex} convex vertices: {face:?}"
-                    ));
+                    )));
                 }
             }
         }

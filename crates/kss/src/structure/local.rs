@@ -14,6 +14,7 @@ use super::geo::Geo;
 use super::{Att, CorrId, Kss, Obj, TriId};
 use crate::motion::dot_poly;
 use crate::num::{Sign, Time};
+use crate::structure::StructureError;
 
 /// Which edge of a corridor face leaves or enters a junction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -721,7 +722,7 @@ impl Kss {
         k: CorrId,
         t: &Time,
         hint: Option<(u32, u32)>,
-    ) -> Result<u32, String> {
+    ) -> Result<u32, StructureError> {
         // (the walks of this call are remembered until it returns)
         *self.walk_memo.borrow_mut() = Some(Vec::new());
         let r = self.normalize_walking(world, k, t, hint);
@@ -736,7 +737,7 @@ impl Kss {
         k: CorrId,
         t: &Time,
         hint: Option<(u32, u32)>,
-    ) -> Result<u32, String> {
+    ) -> Result<u32, StructureError> {
         super::counters::bump(super::counters::Counter::Normalizations);
         let ki = k.0 as usize;
         let c = &self.corrs[ki];
@@ -849,9 +850,9 @@ impl Kss {
                 }
             }
         }
-        Err(format!(
+        Err(StructureError::Local(format!(
             "corridor {ki}: no pseudo-triangle decomposition found (len {len_a}/{len_b}, mid {mid:?})"
-        ))
+        )))
     }
 
     /// The fewest junctions of corridor `k` with middle bridge `m`, among

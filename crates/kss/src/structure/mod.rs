@@ -43,6 +43,51 @@ pub mod view;
 
 use crate::world::BodyId;
 
+/// Why an operation of the structure failed. The text says where and what;
+/// the variant says which kind of failure it is, and so what the engine does
+/// next.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum StructureError {
+    /// A local operation (a slide, flip, pop, normalization, removal or
+    /// insertion in place) found no valid configuration: an instant where
+    /// several degeneracies coincide. The engine falls back to a local
+    /// repair, a rebuild for just after the instant, or the reference.
+    #[error("{0}")]
+    Local(String),
+    /// No structure can be built at the instant (polygons overlap or touch
+    /// where the construction needs them apart).
+    #[error("{0}")]
+    Build(String),
+    /// An invariant does not hold: found by the audit, or by the exact
+    /// check of a candidate structure built from the shrunk copy.
+    #[error("{0}")]
+    Invariant(String),
+}
+
+impl StructureError {
+    /// The same failure, its text prefixed by `what` (where it happened).
+    pub fn within(self, what: impl std::fmt::Display) -> StructureError {
+        match self {
+            StructureError::Local(s) => StructureError::Local(format!("{what}: {s}")),
+            StructureError::Build(s) => StructureError::Build(format!("{what}: {s}")),
+            StructureError::Invariant(s) => StructureError::Invariant(format!("{what}: {s}")),
+        }
+    }
+}
+
+impl From<crate::hier::HierarchyError> for StructureError {
+    fn from(e: crate::hier::HierarchyError) -> StructureError {
+        StructureError::Invariant(e.0)
+    }
+}
+
+impl From<build::BuildError> for StructureError {
+    fn from(e: build::BuildError) -> StructureError {
+        StructureError::Build(e.to_string())
+    }
+}
+
 /// An object: a body, or the point at infinity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Obj {

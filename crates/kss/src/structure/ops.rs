@@ -29,6 +29,7 @@ use super::geo::Geo;
 use super::local::{turn, EdgeRef};
 use super::{Att, CorrId, Kss, Obj, PartitionTriangle, TriId};
 use crate::num::{Sign, Time};
+use crate::structure::StructureError;
 
 /// Which part of the structure a certificate belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -108,12 +109,14 @@ fn same_points(q: [Att; 3], p: [Att; 3]) -> bool {
 }
 
 impl Kss {
-    fn tri_index(&self, t: TriId, a: Att) -> Result<usize, String> {
+    fn tri_index(&self, t: TriId, a: Att) -> Result<usize, StructureError> {
         self.tris[t.0 as usize]
             .c
             .iter()
             .position(|&c| c == a)
-            .ok_or_else(|| format!("{a:?} is not a corner of triangle {}", t.0))
+            .ok_or_else(|| {
+                StructureError::Local(format!("{a:?} is not a corner of triangle {}", t.0))
+            })
     }
 
     fn around(&self, t: TriId) -> Vec<CorrId> {
@@ -130,17 +133,20 @@ impl Kss {
         tri: TriId,
         ci: usize,
         to: Att,
-    ) -> Result<(), String> {
+    ) -> Result<(), StructureError> {
         let v = self.tris[tri.0 as usize].c[ci];
         let cw = to == step_cw(world, v, 1);
         if v.is_omega() || (!cw && to != step_ccw(world, v)) {
-            return Err(format!("corner slide {v:?} → {to:?} is not along an edge"));
+            return Err(StructureError::Local(format!(
+                "corner slide {v:?} → {to:?} is not along an edge"
+            )));
         }
         let k1 = self.tris[tri.0 as usize].corr[ci];
         let s1 = (tri, ci as u8);
         let k0 = self.tris[tri.0 as usize].corr[(ci + 2) % 3];
         let s0 = (tri, ((ci + 2) % 3) as u8);
-        let short = || format!("corner slide {v:?} → {to:?}: chain too short");
+        let short =
+            || StructureError::Local(format!("corner slide {v:?} → {to:?}: chain too short"));
         // corridor k1: v is the first point of its side (a_s or b_t)
         let c = &mut self.corrs[k1.0 as usize];
         if c.s == s1 {
@@ -160,7 +166,9 @@ impl Kss {
                 c.mid = c.mid.map(|(i, j)| (i, j + 1));
             }
         } else {
-            return Err("corner slide: corridor does not link back".into());
+            return Err(StructureError::Local(
+                "corner slide: corridor does not link back".into(),
+            ));
         }
         // corridor k0: v is the second point of its side (b_s or a_t)
         let c = &mut self.corrs[k0.0 as usize];
@@ -181,7 +189,9 @@ impl Kss {
                 c.mid = c.mid.map(|(i, j)| (i.min(la), j));
             }
         } else {
-            return Err("corner slide: corridor does not link back".into());
+            return Err(StructureError::Local(
+                "corner slide: corridor does not link back".into(),
+            ));
         }
         self.tris[tri.0 as usize].c[ci] = to;
         Ok(())
@@ -191,11 +201,13 @@ impl Kss {
     /// `t1 = (p, q, r)` (side `e` = `(q, r)`) and the triangle across it
     /// `(d, r, q)`, the two become `(p, q, d)` and `(p, d, r)` joined by a
     /// new empty corridor `(p, d)` (which reuses the old one's index).
-    pub fn flip(&mut self, t1: TriId, e: usize) -> Result<Outcome, String> {
+    pub fn flip(&mut self, t1: TriId, e: usize) -> Result<Outcome, StructureError> {
         let k = self.tris[t1.0 as usize].corr[e];
         let kc = self.corrs[k.0 as usize].clone();
         if kc.len_a != 0 || kc.len_b != 0 {
-            return Err("flip across a non-empty corridor".into());
+            return Err(StructureError::Local(
+                "flip across a non-empty corridor".into(),
+            ));
         }
         let here = (t1, e as u8);
         let (t2, e2) = if kc.s == here {
@@ -203,7 +215,9 @@ impl Kss {
         } else if kc.t == here {
             kc.s
         } else {
-            return Err("flip: corridor does not link back".into());
+            return Err(StructureError::Local(
+                "flip: corridor does not link back".into(),
+            ));
         };
         let (e2, tr1, tr2) = (
             e2 as usize,
@@ -212,11 +226,15 @@ impl Kss {
         );
         let (q, r, p) = (tr1.c[e], tr1.c[(e + 1) % 3], tr1.c[(e + 2) % 3]);
         if tr2.c[e2] != r || tr2.c[(e2 + 1) % 3] != q {
-            return Err("flip: the two triangles do not share the side".into());
+            return Err(StructureError::Local(
+                "flip: the two triangles do not share the side".into(),
+            ));
         }
         let d = tr2.c[(e2 + 2) % 3];
         if d.obj == p.obj {
-            return Err("flip would join two vertices of one object".into());
+            return Err(StructureError::Local(
+                "flip would join two vertices of one object".into(),
+            ));
         }
         let c_pq = tr1.corr[(e + 2) % 3];
         let c_rp = tr1.corr[(e + 1) % 3];
@@ -273,7 +291,7 @@ impl Kss {
         ci: usize,
         to: Att,
         kind: EventKind,
-    ) -> Result<Outcome, String> {
+    ) -> Result<Outcome, StructureError> {
         self.corner_slide(world, tri, ci, to)?;
         Ok(Outcome {
             kind,
@@ -292,7 +310,7 @@ impl Kss {
         p: [Att; 3],
         middle: Att,
         t: &Time,
-    ) -> Result<Outcome, String> {
+    ) -> Result<Outcome, StructureError> {
         match owner {
             Owner::Tri(tri) => self.triangle_collapse(world, tri, middle, t),
             Owner::Corr(k) if self.corrs[k.0 as usize].b == Obj::Omega => {
@@ -312,7 +330,7 @@ impl Kss {
         tri: TriId,
         middle: Att,
         t: &Time,
-    ) -> Result<Outcome, String> {
+    ) -> Result<Outcome, StructureError> {
         let m = self.tri_index(tri, middle)?;
         let side = (m + 1) % 3;
         let k = self.tris[tri.0 as usize].corr[side];
@@ -340,7 +358,10 @@ impl Kss {
             .find(|j| j.v == c && j.out_edge == end && j.next == b)
             .map(|j| j.prev);
         let (Some(b1), Some(c1)) = (b1, c1) else {
-            return Err(format!("triangle {}: corridor face not found", tri.0));
+            return Err(StructureError::Local(format!(
+                "triangle {}: corridor face not found",
+                tri.0
+            )));
         };
         let tn = |u, v, w| turn(world, u, v, w, t);
         let (cbb1, c1cb) = (tn(c, b, b1), tn(c1, c, b));
@@ -356,7 +377,7 @@ impl Kss {
         {
             return self.corner_slide_outcome(world, tri, (m + 2) % 3, c1, EventKind::EarSlide);
         }
-        Err(format!(
+        Err(StructureError::Local(format!(
             "triangle {} = {corners:?} collapses ({middle:?} in the middle) onto corridor {kc:?} \
              with no ear to slide along (b1 {b1:?}, c1 {c1:?}; turns cbb1 {:?} cb1c1 {:?} c1cb {:?} bb1c1 {:?})",
             tri.0,
@@ -364,7 +385,7 @@ impl Kss {
             tn(c, b1, c1),
             c1cb,
             tn(b, b1, c1),
-        ))
+        )))
     }
 
     fn hull_event(
@@ -373,19 +394,21 @@ impl Kss {
         k: CorrId,
         p: [Att; 3],
         middle: Att,
-    ) -> Result<Outcome, String> {
+    ) -> Result<Outcome, StructureError> {
         let turns = self.hull_turns(world, k);
         let Some(&(_, x)) = turns
             .iter()
             .find(|(q, _)| rotate_to_min(*q) == rotate_to_min(p))
             .or_else(|| turns.iter().find(|(q, _)| same_points(*q, p)))
         else {
-            return Err("hull event: no such hull turn".into());
+            return Err(StructureError::Local(
+                "hull event: no such hull turn".into(),
+            ));
         };
         if middle != x {
-            return Err(format!(
+            return Err(StructureError::Local(format!(
                 "hull turn at {x:?} fails with {middle:?} in the middle"
-            ));
+            )));
         }
         let c = self.corrs[k.0 as usize].clone();
         let (a_s, _, a_t, _) = self.ends(k);
@@ -412,7 +435,7 @@ impl Kss {
         k: CorrId,
         p: [Att; 3],
         middle: Att,
-    ) -> Result<Outcome, String> {
+    ) -> Result<Outcome, StructureError> {
         let (e, from, to, onto) = self.junction_plan(world, k, p, middle)?;
         self.slide_bridge(world, k, e, from, to, onto)
     }
@@ -426,7 +449,7 @@ impl Kss {
         k: CorrId,
         p: [Att; 3],
         middle: Att,
-    ) -> Result<(EdgeRef, Att, Att, bool), String> {
+    ) -> Result<(EdgeRef, Att, Att, bool), StructureError> {
         let all = self.junctions(world, k);
         let mut js: Vec<_> = all
             .iter()
@@ -472,10 +495,10 @@ impl Kss {
                 }
             }
         }
-        Err(format!(
+        Err(StructureError::Local(format!(
             "corridor {}: no operation for {p:?} with {middle:?} in the middle",
             k.0
-        ))
+        )))
     }
 
     /// Move the end `from` of bridge `e` of corridor `k` to its polygon
@@ -489,11 +512,15 @@ impl Kss {
         from: Att,
         to: Att,
         onto: bool,
-    ) -> Result<Outcome, String> {
+    ) -> Result<Outcome, StructureError> {
         let ki = k.0 as usize;
         let c = self.corrs[ki].clone();
         let (a_s, b_s, a_t, b_t) = self.ends(k);
-        let bad = || format!("corridor {ki}: cannot slide {e:?} from {from:?} to {to:?}");
+        let bad = || {
+            StructureError::Local(format!(
+                "corridor {ki}: cannot slide {e:?} from {from:?} to {to:?}"
+            ))
+        };
         match e {
             EdgeRef::Chain => Err(bad()),
             EdgeRef::Mid => {

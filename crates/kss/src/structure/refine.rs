@@ -13,6 +13,7 @@
 //! approximation towards its polygon, and polygons that are apart are
 //! separated after finitely many pops, so the loops end.
 
+use crate::structure::StructureError;
 use std::sync::Arc;
 
 use super::faces::turn_after;
@@ -180,7 +181,7 @@ fn sliding(
 
 /// Pops one approximation vertex (and updates whatever is built on the
 /// approximations); `Ok(false)` if there was nothing to pop.
-pub type Popper<'p> = &'p mut dyn FnMut(&mut Shapes, Att) -> Result<bool, String>;
+pub type Popper<'p> = &'p mut dyn FnMut(&mut Shapes, Att) -> Result<bool, StructureError>;
 
 /// Pop the approximations of bodies `a` and `b` where, just after `t`, an
 /// approximation edge of one slides along a vertex of the other or the
@@ -193,7 +194,7 @@ pub fn unslide_after(
     (a, b): (BodyId, BodyId),
     t: &Time,
     popper: Popper,
-) -> Result<u64, String> {
+) -> Result<u64, StructureError> {
     let mut pops = 0;
     loop {
         let geo = Geo { world, shapes };
@@ -231,7 +232,7 @@ fn separate(
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
     on_segment: Option<GeoTest>,
     popper: Popper,
-) -> Result<u64, String> {
+) -> Result<u64, StructureError> {
     let mut pops = 0;
     loop {
         let geo = Geo { world, shapes };
@@ -241,11 +242,11 @@ fn separate(
             return Ok(pops);
         };
         if todo.is_empty() {
-            return Err(format!(
+            return Err(StructureError::Local(format!(
                 "bodies {} and {} overlap with no approximation vertex left to refine",
                 world.body(a).id,
                 world.body(b).id
-            ));
+            )));
         }
         for x in todo {
             pops += u64::from(popper(shapes, x)?);
@@ -263,7 +264,7 @@ pub fn separate_after(
     (a, b): (BodyId, BodyId),
     t: &Time,
     popper: Popper,
-) -> Result<u64, String> {
+) -> Result<u64, StructureError> {
     separate(
         world,
         shapes,
@@ -277,7 +278,11 @@ pub fn separate_after(
 /// Pop approximations until every two are apart (closed sets disjoint) at
 /// time `t`; the number of pops. A sweep over bounding boxes finds the
 /// pairs to test.
-pub fn separate_all_at(world: &World, shapes: &mut Shapes, t: &Rational) -> Result<u64, String> {
+pub fn separate_all_at(
+    world: &World,
+    shapes: &mut Shapes,
+    t: &Rational,
+) -> Result<u64, StructureError> {
     separate_all(world, shapes, t, &|geo, u, v, w| {
         let p = |x: Att| geo.position(x, t).expect("a vertex, not ω, has a position");
         orient(&p(u), &p(v), &p(w))
@@ -291,7 +296,7 @@ fn separate_all(
     shapes: &mut Shapes,
     t: &Rational,
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
-) -> Result<u64, String> {
+) -> Result<u64, StructureError> {
     let mut pops = 0;
     for pair in box_pairs(world, shapes, t) {
         pops += separate(world, shapes, pair, sign, None, &mut |shapes, x| {
@@ -332,8 +337,10 @@ pub fn separate_all_strictly_after(
     world: &World,
     shapes: &mut Shapes,
     t: &Time,
-) -> Result<u64, String> {
-    let r = t.as_rational().ok_or("irrational time")?;
+) -> Result<u64, StructureError> {
+    let r = t
+        .as_rational()
+        .ok_or_else(|| StructureError::Local("irrational time".into()))?;
     separate_all(world, shapes, r, &|geo, u, v, w| {
         turn_after(geo, u, v, w, t)
     })
@@ -341,7 +348,7 @@ pub fn separate_all_strictly_after(
 
 /// For the audit: every two approximations have disjoint interiors at time
 /// `t` (they may touch where the polygons slide along each other).
-pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), String> {
+pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), StructureError> {
     let geo = Geo { world, shapes };
     for (a, b) in box_pairs(world, shapes, t) {
         let sign = |u: Att, v: Att, w: Att| {
@@ -367,11 +374,11 @@ pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), S
                     .collect();
                 eprintln!("approximation of {id:?} at {}: {pts:?}", t.to_f64());
             }
-            return Err(format!(
+            return Err(StructureError::Local(format!(
                 "the approximations of {} and {} overlap at t = {t}",
                 world.body(a).id,
                 world.body(b).id
-            ));
+            )));
         }
     }
     Ok(())

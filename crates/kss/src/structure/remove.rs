@@ -21,6 +21,7 @@
 //! has no triangulation even shrunk, or fewer than two bodies stay) is
 //! reported as an error and the caller rebuilds.
 
+use crate::structure::StructureError;
 use std::collections::{HashMap, HashSet};
 
 use super::build::{cross_two_object_face, is_partition, Vertices};
@@ -138,14 +139,21 @@ impl Kss {
     /// Plan the removal of body `p` at time `t` (module docs). `world` must
     /// still see every other body as the structure does; `p`'s own
     /// geometry is not used.
-    pub fn removal_plan(&self, world: &Geo, p: BodyId, now: &Time) -> Result<RemovalPlan, String> {
-        let t = now.as_rational().ok_or("an irrational instant")?;
+    pub fn removal_plan(
+        &self,
+        world: &Geo,
+        p: BodyId,
+        now: &Time,
+    ) -> Result<RemovalPlan, StructureError> {
+        let t = now
+            .as_rational()
+            .ok_or_else(|| StructureError::Local("an irrational instant".into()))?;
         let alive = world.bodies().iter().filter(|b| b.alive).count();
         if alive < 2 {
-            return Err(format!("{alive} bodies stay"));
+            return Err(StructureError::Local(format!("{alive} bodies stay")));
         }
         self.region_plan(world, &[p], t, Region::Remove)
-            .map_err(|e| e.reason)
+            .map_err(|e| StructureError::Local(e.reason))
     }
 
     /// Plan a *local retriangulation* around the bodies `set` (alive in

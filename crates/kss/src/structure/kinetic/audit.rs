@@ -2,6 +2,7 @@
 //! checked exactly at a rational instant between events, against a
 //! recomputation from scratch.
 
+use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::num::{Rational, Sign, Time};
@@ -15,7 +16,7 @@ impl Kinetic {
     /// last event `now` and before the next one: topology, every corridor face
     /// a pseudo-triangle, every certificate holding, and the scheduled set
     /// equal to a from-scratch recomputation with the right failure times.
-    pub fn audit(&self, world: &Geo, now: &Time, at: &Rational) -> Result<(), String> {
+    pub fn audit(&self, world: &Geo, now: &Time, at: &Rational) -> Result<(), StructureError> {
         let at_t = Time::from_rational(at.clone());
         self.kss.check_topology(world)?;
         self.kss.check_faces(world, &at_t)?;
@@ -24,28 +25,30 @@ impl Kinetic {
         if fresh.len() != self.certs.len() {
             let have: BTreeSet<_> = self.certs.keys().collect();
             let want: BTreeSet<_> = fresh.iter().map(|c| &c.p).collect();
-            return Err(format!(
+            return Err(StructureError::Invariant(format!(
                 "{} certificates kept, {} expected (extra {:?}, missing {:?})",
                 self.certs.len(),
                 fresh.len(),
                 have.difference(&want).take(3).collect::<Vec<_>>(),
                 want.difference(&have).take(3).collect::<Vec<_>>(),
-            ));
+            )));
         }
         let mut scheduled = 0;
         for c in &fresh {
             if let Some(&a) = c.p.iter().find(|&&a| !world.enclosure_cache_agrees(a)) {
-                return Err(format!(
+                return Err(StructureError::Invariant(format!(
                     "the cached enclosure of {a:?} (in certificate {:?}) is not the fresh one",
                     c.p
-                ));
+                )));
             }
-            let s = self
-                .certs
-                .get(&c.p)
-                .ok_or_else(|| format!("certificate {:?} missing", c.p))?;
+            let s = self.certs.get(&c.p).ok_or_else(|| {
+                StructureError::Invariant(format!("certificate {:?} missing", c.p))
+            })?;
             if s.cert.sign != c.sign {
-                return Err(format!("certificate {:?} has the wrong sign", c.p));
+                return Err(StructureError::Invariant(format!(
+                    "certificate {:?} has the wrong sign",
+                    c.p
+                )));
             }
             let p = cert_poly(world, c);
             match p.sign_at(&at_t) {
@@ -53,7 +56,12 @@ impl Kinetic {
                 Sign::Zero if resting_flat(world, c, &p) => {}
                 _ if p.sign_before(&at_t) == Sign::Positive
                     && p.sign_after(&at_t) == Sign::Positive => {}
-                s => return Err(format!("certificate {:?} is {s:?} at {at}", c.p)),
+                s => {
+                    return Err(StructureError::Invariant(format!(
+                        "certificate {:?} is {s:?} at {at}",
+                        c.p
+                    )))
+                }
             }
             let want = p.first_failure_after(now);
             let got = s
@@ -61,18 +69,18 @@ impl Kinetic {
                 .and_then(|k| self.queue.get(k))
                 .map(|(t, _)| t.clone());
             if want != got {
-                return Err(format!(
+                return Err(StructureError::Invariant(format!(
                     "certificate {:?} scheduled at {got:?}, fails at {want:?}",
                     c.p
-                ));
+                )));
             }
             scheduled += usize::from(got.is_some());
         }
         if scheduled != self.queue.len() {
-            return Err(format!(
+            return Err(StructureError::Invariant(format!(
                 "{} queued events for {scheduled} scheduled certificates",
                 self.queue.len()
-            ));
+            )));
         }
         Ok(())
     }

@@ -4,6 +4,7 @@
 //! and the scheduling, rescheduling and dropping of certificates as the
 //! structure changes.
 
+use crate::structure::StructureError;
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::motion::{orient_poly, LinearPoint};
@@ -263,7 +264,11 @@ pub(super) fn tie(world: &Geo, p: &[Att; 3]) -> u64 {
 }
 
 impl Kinetic {
-    pub(super) fn schedule_everything(&mut self, world: &Geo, now: &Time) -> Result<(), String> {
+    pub(super) fn schedule_everything(
+        &mut self,
+        world: &Geo,
+        now: &Time,
+    ) -> Result<(), StructureError> {
         self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
         self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
         for ki in 0..self.kss.corrs.len() {
@@ -283,7 +288,12 @@ impl Kinetic {
 
     /// Recompute the certificates owned by `o` at `now`: drop the ones it no
     /// longer owns, schedule the new ones.
-    pub(super) fn refresh(&mut self, world: &Geo, o: Owner, now: &Time) -> Result<(), String> {
+    pub(super) fn refresh(
+        &mut self,
+        world: &Geo,
+        o: Owner,
+        now: &Time,
+    ) -> Result<(), StructureError> {
         let fresh = match o {
             Owner::Tri(t) => self.kss.triangle_certs(t),
             Owner::Corr(k) => self.kss.corridor_certs(world, k, now),
@@ -349,7 +359,7 @@ impl Kinetic {
                                 self.drop_cert(p);
                             }
                         }
-                        return Err(e);
+                        return Err(StructureError::Local(e));
                     }
                     // the kept certificate fails now and will be handled
                     if !s.owners.contains(&o) {
@@ -478,7 +488,7 @@ impl Kinetic {
         (b, ids): (BodyId, &[Att]),
         owners: BTreeSet<Owner>,
         t: &Time,
-    ) -> Result<(), String> {
+    ) -> Result<(), StructureError> {
         for o in owners {
             self.refresh(geo, o, t)?;
         }

@@ -13,6 +13,7 @@
 //! - `motion`: flight-plan changes and collision responses;
 //! - `repair`: pops, removals, insertions, local repair, rebuilds, merges;
 //! - `audit`: the exact check of every invariant between events.
+use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use super::certs::Cert;
@@ -189,8 +190,8 @@ pub enum Step {
 
 impl Kinetic {
     /// Build the structure at time `t` and schedule its certificates.
-    pub fn new(world: &Geo, t: &Rational) -> Result<Kinetic, String> {
-        let (kss, perturbed) = super::build::build(world, t).map_err(|e| e.to_string())?;
+    pub fn new(world: &Geo, t: &Rational) -> Result<Kinetic, StructureError> {
+        let (kss, perturbed) = super::build::build(world, t)?;
         Kinetic::from_built(world, t, kss, perturbed)
     }
 
@@ -202,18 +203,18 @@ impl Kinetic {
         t: &Rational,
         kss: Kss,
         perturbed: super::build::Perturbed,
-    ) -> Result<Kinetic, String> {
+    ) -> Result<Kinetic, StructureError> {
         // every alive polygon is in a structure of the right size: one built
         // at an instant where polygons overlap lacks some (a cheap check;
         // the rebuilds for just after an instant try an earlier one then)
         let n = world.bodies().iter().filter(|b| b.alive).count();
         if n >= 2 && (kss.tris.len() != 2 * n - 2 || kss.corrs.len() != 3 * n - 3) {
-            return Err(format!(
+            return Err(StructureError::Build(format!(
                 "{} partition triangles and {} corridors for {n} polygons: polygons overlap at t = {}",
                 kss.tris.len(),
                 kss.corrs.len(),
                 t.to_f64()
-            ));
+            )));
         }
         let mut k = Kinetic {
             kss,
@@ -234,7 +235,7 @@ impl Kinetic {
 
     /// Rebuild the structure from scratch at `t` (after polygons were removed)
     /// and schedule its certificates.
-    pub fn rebuild(&mut self, world: &Geo, t: &Rational) -> Result<(), String> {
+    pub fn rebuild(&mut self, world: &Geo, t: &Rational) -> Result<(), StructureError> {
         let fresh = Kinetic::new(world, t)?;
         self.replace_with(fresh);
         Ok(())

@@ -3,6 +3,7 @@
 //! must be re-normalized first where the new motions make a certificate fail
 //! at once.
 
+use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::motion::orient_poly;
@@ -25,7 +26,7 @@ impl Kinetic {
         world: &Geo,
         now: &Time,
         bodies: &[BodyId],
-    ) -> Result<(), String> {
+    ) -> Result<(), StructureError> {
         // (the motions changed: operations before this are no cycle of
         // operations after it)
         self.recent.clear();

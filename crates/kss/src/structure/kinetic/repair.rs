@@ -3,6 +3,7 @@
 //! a degenerate instant, the rebuild for just after an instant, and the
 //! hierarchy's coarsening (merges) after an operation.
 
+use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::num::{Sign, Time};
@@ -96,7 +97,7 @@ impl Kinetic {
         shapes: &mut crate::structure::geo::Shapes,
         a: Att,
         t: &Time,
-    ) -> Result<(bool, bool), String> {
+    ) -> Result<(bool, bool), StructureError> {
         let (corrs, tris, ids) = match self.kss.pop_vertex(world, shapes, a, t) {
             crate::structure::pop::PopResult::NotPopped => return Ok((false, true)),
             crate::structure::pop::PopResult::Failed => {
@@ -139,7 +140,12 @@ impl Kinetic {
     /// be done locally (the caller rebuilds; the structure may then be half
     /// changed), in particular when a new certificate fails at once that
     /// is neither taken over nor held by normalization.
-    pub fn remove_body(&mut self, world: &Geo, b: BodyId, now: &Time) -> Result<bool, String> {
+    pub fn remove_body(
+        &mut self,
+        world: &Geo,
+        b: BodyId,
+        now: &Time,
+    ) -> Result<bool, StructureError> {
         if self.broken.is_some() {
             return Ok(false);
         }
@@ -181,7 +187,7 @@ impl Kinetic {
         (bodies, singles): (&[BodyId], bool),
         handled: [Att; 3],
         now: &Time,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, StructureError> {
         if self.broken.is_some() {
             return Ok(false);
         }
@@ -242,7 +248,7 @@ impl Kinetic {
         world: &Geo,
         (bodies, singles): (&[BodyId], bool),
         now: &Time,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, StructureError> {
         let hi = self.search_start(now)?;
         // all of them together first (the broken faces may lie between any
         // two), then each alone
@@ -330,7 +336,12 @@ impl Kinetic {
     /// everything. `false` when no region works: the structure is then
     /// unchanged, or half changed if the splice failed (the caller
     /// rebuilds it either way).
-    pub fn insert_body(&mut self, world: &Geo, b: BodyId, now: &Time) -> Result<bool, String> {
+    pub fn insert_body(
+        &mut self,
+        world: &Geo,
+        b: BodyId,
+        now: &Time,
+    ) -> Result<bool, StructureError> {
         if self.broken.is_some() || self.kss.tris.is_empty() {
             return Ok(false);
         }
@@ -399,7 +410,7 @@ impl Kinetic {
         b: BodyId,
         removed: bool,
         now: &Time,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, StructureError> {
         // the certificates of what goes lose their owners but stay for the
         // moment: the new triangles and corridors take over the ones they
         // share (most of a merged corridor's junctions) without computing
@@ -559,7 +570,12 @@ impl Kinetic {
     /// `now`. The fallback for instants where several degeneracies coincide
     /// and the local operations find no valid structure (counted as
     /// `degenerate_rebuild`; see ARCHITECTURE.md).
-    pub fn rebuild_after(&mut self, world: &Geo, now: &Time, kind: Rebuild) -> Result<(), String> {
+    pub fn rebuild_after(
+        &mut self,
+        world: &Geo,
+        now: &Time,
+        kind: Rebuild,
+    ) -> Result<(), StructureError> {
         let mut hi = self.search_start(now)?;
         trace!("rebuild_after {now}: search from {hi:?}");
         for _ in 0..200 {
@@ -596,7 +612,9 @@ impl Kinetic {
             hi = at_t;
         }
         self.unbuildable = Some(now.clone());
-        Err(format!("no rebuild just after t = {now} found"))
+        Err(StructureError::Local(format!(
+            "no rebuild just after t = {now} found"
+        )))
     }
 
     /// Where the searches for an instant just after `now` (a rebuild, a
@@ -606,9 +624,10 @@ impl Kinetic {
     /// moved into each other and every attempt fails (each a whole
     /// triangulation); at most one time unit later. (The f64 only bounds the
     /// search from above: any instant after `now` would do.)
-    pub(super) fn search_start(&self, now: &Time) -> Result<Time, String> {
+    pub(super) fn search_start(&self, now: &Time) -> Result<Time, StructureError> {
         let f = now.to_f64();
-        let mut hi = Time::from_f64(f + f.abs().max(1.0)).ok_or("time out of range")?;
+        let mut hi = Time::from_f64(f + f.abs().max(1.0))
+            .ok_or_else(|| StructureError::Local("time out of range".into()))?;
         if let Some(next) = self.queue_times_after(now) {
             if next < hi {
                 hi = next;
@@ -644,7 +663,7 @@ impl Kinetic {
         world: &crate::world::World,
         shapes: &mut crate::structure::geo::Shapes,
         t: &Time,
-    ) -> Result<u64, String> {
+    ) -> Result<u64, StructureError> {
         let mut merges = 0;
         for k in std::mem::take(&mut self.last_touched) {
             self.tick = self.tick.wrapping_add(1);

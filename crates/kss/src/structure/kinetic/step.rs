@@ -3,6 +3,7 @@
 //! do not, or a structural event), and handle it by a local operation; the
 //! guard against local operations that cycle at one instant.
 
+use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::num::{Interval, Time};
@@ -148,7 +149,7 @@ impl Kinetic {
         limit: &Time,
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
-    ) -> Result<Step, String> {
+    ) -> Result<Step, StructureError> {
         let head = self
             .queue
             .peek()
@@ -174,12 +175,13 @@ impl Kinetic {
             return Ok(Step::Idle);
         }
         self.queue.pop();
-        let s = self
-            .certs
-            .get_mut(&p)
-            .ok_or_else(|| format!("queued certificate {p:?} unknown"))?;
+        let s = self.certs.get_mut(&p).ok_or_else(|| {
+            StructureError::Invariant(format!("queued certificate {p:?} unknown"))
+        })?;
         if s.key != Some(key) {
-            return Err(format!("certificate {p:?} scheduled twice"));
+            return Err(StructureError::Local(format!(
+                "certificate {p:?} scheduled twice"
+            )));
         }
         s.key = None;
         s.popped = Some(Box::new(t.clone()));
@@ -261,7 +263,7 @@ impl Kinetic {
         t: Time,
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
-    ) -> Result<Step, String> {
+    ) -> Result<Step, StructureError> {
         if self.broken.is_some() {
             // this event waits for the rebuild. After a refinement a local
             // repair would miss it; after failed local operations it is
@@ -303,7 +305,7 @@ impl Kinetic {
                 }
                 trace!("no local repair at {}: rebuilding", t.to_f64());
                 self.rebuild_after(world, &t, Rebuild::Degenerate)
-                    .map_err(|r| format!("{e}; then {r}"))?;
+                    .map_err(|r| StructureError::Local(format!("{e}; then {r}")))?;
                 Ok(Step::Internal(t))
             }
             Err(_e) => {
@@ -362,7 +364,7 @@ impl Kinetic {
     /// at a settled contact ([`Kinetic::repair_around`]), so that the
     /// structure is the one for just after `now`. `false` when there is
     /// none (the caller rebuilds the whole structure).
-    pub fn repair_cycle(&mut self, world: &Geo, now: &Time) -> Result<bool, String> {
+    pub fn repair_cycle(&mut self, world: &Geo, now: &Time) -> Result<bool, StructureError> {
         let Some(&last) = self.recent.back() else {
             return Ok(false);
         };
@@ -389,7 +391,7 @@ impl Kinetic {
         t: Time,
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
-    ) -> Result<Step, String> {
+    ) -> Result<Step, StructureError> {
         let Some(s) = self.certs.get(&p) else {
             return Ok(Step::Deferred(t)); // replaced by an earlier operation
         };
@@ -480,7 +482,9 @@ impl Kinetic {
                     self.waiting.push(p);
                     return Ok(Step::Deferred(t));
                 }
-                let owner = *owners.first().ok_or("certificate without owner")?;
+                let owner = *owners
+                    .first()
+                    .ok_or_else(|| StructureError::Invariant("certificate without owner".into()))?;
                 // a partition triangle at an end of the corridor that
                 // collapses at this instant goes first: the corridor's
                 // operations assume its end triangles, and two of its
@@ -536,7 +540,12 @@ impl Kinetic {
         }
     }
 
-    pub(super) fn apply(&mut self, world: &Geo, out: Outcome, t: &Time) -> Result<(), String> {
+    pub(super) fn apply(
+        &mut self,
+        world: &Geo,
+        out: Outcome,
+        t: &Time,
+    ) -> Result<(), StructureError> {
         self.tally.events(out.kind, 1);
         let mut corrs = out.corrs;
         corrs.sort();
