@@ -6,8 +6,8 @@ use std::process::{Command, Output, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use kss::gen::Family;
+use kss::json::{parse_scenario, write_scenario, ScenarioJsonError};
 use kss::Scenario;
-use kss_cli::json::{parse_scenario, write_scenario, ScenarioJsonError};
 
 // ---------------------------------------------------------------------------
 // Helpers

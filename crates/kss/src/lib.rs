@@ -13,6 +13,8 @@
 //!   collision, answer it (new velocities, removals, insertions, or a
 //!   built-in response), advance again.
 //! - [`scenario`]: the input data and its errors; [`gen`]: scenario generators.
+//! - `json` (with the `serde` feature): scenario files' JSON text, read into a
+//!   [`Scenario`] and written from one (`docs/scenario-format.md`).
 //! - [`num`]: exact numbers and the exact, filtered order of event [`num::Time`]s.
 //! - [`geom`], [`motion`]: exact predicates and certificate functions.
 //! - [`hier`]: the per-polygon hierarchy of outer approximations (static).
@@ -132,6 +134,8 @@ mod engine;
 pub mod gen;
 pub mod geom;
 pub mod hier;
+#[cfg(feature = "serde")]
+pub mod json;
 pub mod motion;
 pub mod num;
 pub mod render;
