@@ -162,6 +162,27 @@ fn kss_time(t: f64) -> kss::num::Time {
     kss::num::Time::from_f64(t).expect("a finite time")
 }
 
+#[test]
+fn an_event_line_leaves_out_a_point_that_is_not_finite() {
+    for point in [
+        [f64::INFINITY, 0.0],
+        [f64::NAN, 1.0],
+        [0.5, f64::NEG_INFINITY],
+    ] {
+        let e = kss::CollisionEvent {
+            time: kss_time(0.5),
+            a: "a".into(),
+            b: "b".into(),
+            point,
+            again: false,
+        };
+        let line = kss_cli::commands::event_line(&e);
+        let v: serde_json::Value = serde_json::from_str(&line).unwrap();
+        assert_eq!(v["time"], 0.5, "{line}");
+        assert!(v.get("point").is_none(), "{line}");
+    }
+}
+
 // ---------------------------------------------------------------------------
 // The binary
 // ---------------------------------------------------------------------------
@@ -731,6 +752,47 @@ fn run_exit_status_is_zero_or_not_implemented() {
             assert!(stderr(&o).contains("not implemented"));
             assert!(o.stdout.is_empty());
         }
+    }
+}
+
+/// `kss run` prints the library's collisions, one line each, on a scene
+/// whose contact point is `[inf, 0]` (coordinates near `f64::MAX`): that
+/// line has no point. (kss's `regressions` test compares the structures'
+/// collisions on this file.)
+#[test]
+fn run_prints_the_library_events_and_no_point_that_is_not_finite() {
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../testdata/regressions/extreme_coordinates_and_velocity_near_1e308.json");
+    let text = std::fs::read_to_string(&file).expect("the scenario");
+    let mut want = String::new();
+    let mut without_point = 0;
+    let options = kss::RunOptions {
+        structure: kss::StructureKind::Brute,
+        ..Default::default()
+    };
+    kss::run(&parse_scenario(&text).unwrap(), &options, &mut |e| {
+        want.push_str(&kss_cli::commands::event_line(e));
+        want.push('\n');
+        without_point += usize::from(!e.point.iter().all(|x| x.is_finite()));
+    })
+    .unwrap();
+    assert!(
+        without_point > 0,
+        "the scene has a point that is not finite"
+    );
+    for structure in ["brute", "hierarchical"] {
+        let o = run_kss(
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "--structure",
+                structure,
+                "--quiet",
+            ],
+            None,
+        );
+        assert_eq!(o.status.code(), Some(0), "{structure}: {}", stderr(&o));
+        assert_eq!(stdout(&o), want, "{structure}");
     }
 }
 
