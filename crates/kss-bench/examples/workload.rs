@@ -18,6 +18,6 @@ fn main() {
     };
     print!(
         "{}",
-        kss_cli::json::write_scenario(&w.scenario()).expect("serializable")
+        kss::json::write_scenario(&w.scenario()).expect("serializable")
     );
 }

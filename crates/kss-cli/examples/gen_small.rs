@@ -11,8 +11,5 @@ fn main() {
     let family = kss::gen::Family::from_name(&a[1]).expect("a family name");
     let seed: u64 = a[2].parse().expect("a seed");
     let s = kss::gen::generate_small(family, seed);
-    print!(
-        "{}",
-        kss_cli::json::write_scenario(&s).expect("serializable")
-    );
+    print!("{}", kss::json::write_scenario(&s).expect("serializable"));
 }

@@ -9,7 +9,7 @@ use kss::{RunOptions, StructureKind};
 fn main() {
     let a: Vec<String> = std::env::args().collect();
     let s: kss::Scenario =
-        kss_cli::json::parse_scenario(&std::fs::read_to_string(&a[1]).unwrap()).unwrap();
+        kss::json::parse_scenario(&std::fs::read_to_string(&a[1]).unwrap()).unwrap();
     let time: f64 = a[2].parse().unwrap();
     let structure = if a.get(3).map(String::as_str) == Some("plain") {
         StructureKind::Plain

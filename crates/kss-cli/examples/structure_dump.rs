@@ -12,7 +12,7 @@ use kss::world::{BodyId, World};
 fn main() {
     let a: Vec<String> = std::env::args().collect();
     let s: kss::Scenario =
-        kss_cli::json::parse_scenario(&std::fs::read_to_string(&a[1]).unwrap()).unwrap();
+        kss::json::parse_scenario(&std::fs::read_to_string(&a[1]).unwrap()).unwrap();
     let until: f64 = a[2].parse().unwrap();
     let x: u32 = a[3].parse().unwrap();
     let y: u32 = a[4].parse().unwrap();

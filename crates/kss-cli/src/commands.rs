@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use kss::gen;
+use kss::json::{self, json_f64, json_str};
 use kss::{CollisionEvent, RunError, RunOptions, RunStats, Scenario, StructureKind};
 
 use crate::cli::{Cli, Command, DemoArgs, GasArgs, GenArgs, GenFamily, RenderArgs, RunArgs};
-use crate::json::{self, json_f64, json_str};
 
 /// Why a command failed; the kind gives the exit status.
 #[derive(Debug)]

@@ -1,5 +1,6 @@
-//! The `kss` command line: reading and writing scenario files ([`json`]), the
-//! command-line grammar ([`cli`]) and the commands themselves ([`commands`]).
+//! The `kss` command line: the command-line grammar ([`cli`]) and the
+//! commands themselves ([`commands`]), which read and write the files
+//! (scenario files through [`kss::json`]) and the terminal.
 //!
 //! The binary (`src/main.rs`) only parses the arguments and calls
 //! [`commands::execute`]; everything is in this library so that tests can call
@@ -10,4 +11,3 @@
 
 pub mod cli;
 pub mod commands;
-pub mod json;

@@ -523,7 +523,7 @@ fn expected_files_match_the_hand_computed_table() {
 fn size_of(name: &str) -> (u64, u64) {
     let text = std::fs::read_to_string(scenarios_dir().join(format!("{name}.json")))
         .expect("read scenario");
-    let sc = kss_cli::json::parse_scenario(&text).expect("golden scenarios parse");
+    let sc = kss::json::parse_scenario(&text).expect("golden scenarios parse");
     let all: Vec<&kss::PolygonSpec> = sc
         .polygons
         .iter()
@@ -765,7 +765,7 @@ fn event_points_lie_on_both_polygons() {
     for name in json_names(&scenarios_dir()) {
         let text = std::fs::read_to_string(scenarios_dir().join(format!("{name}.json")))
             .expect("read scenario");
-        let sc = kss_cli::json::parse_scenario(&text).expect("golden scenarios parse");
+        let sc = kss::json::parse_scenario(&text).expect("golden scenarios parse");
         if sc.on_collision == kss::CollisionMode::Bounce {
             continue;
         }

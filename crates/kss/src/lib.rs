@@ -13,6 +13,8 @@
 //!   collision, answer it (new velocities, removals, insertions, or a
 //!   built-in response), advance again.
 //! - [`scenario`]: the input data and its errors; [`gen`]: scenario generators.
+//! - `json` (with the `serde` feature): scenario files' JSON text, read into a
+//!   [`Scenario`] and written from one (`docs/scenario-format.md`).
 //! - [`num`]: exact numbers and the exact, filtered order of event [`num::Time`]s.
 //! - [`sim`]: the event queue; [`world`]: bodies, flight plans, collision policy.
 //! - [`runner`]: the engines behind [`run`], and snapshots of a run.
@@ -148,6 +150,8 @@ pub mod hier;
 #[cfg(not(feature = "internals"))]
 #[allow(dead_code)]
 pub(crate) mod hier;
+#[cfg(feature = "serde")]
+pub mod json;
 #[cfg(feature = "internals")]
 pub mod motion;
 #[cfg(not(feature = "internals"))]

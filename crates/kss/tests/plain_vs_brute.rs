@@ -4,12 +4,12 @@
 //! structure's audit after every event (internal ones too). `KSS_SLOW=1`
 //! sweeps 100,000 scenarios instead of the CI subset.
 
-use kss::gen::{generate_small, Family};
-use kss::{Scenario, StructureKind};
+use kss::gen::{churn, generate_small, ChurnParams, Family};
+use kss::{run, CollisionMode, RunOptions, Scenario, StructureKind, DEFAULT_APPROXIMATE_ABOVE};
 
 mod common;
 
-use common::{events, events_above};
+use common::{collision, events, events_above, Collision};
 
 /// Which polygons the hierarchy approximates in a sweep.
 #[derive(Clone, Copy, PartialEq)]
@@ -113,6 +113,64 @@ fn hierarchical_with_the_larger_polygons_approximated_matches_brute() {
     let families: Vec<Family> = GENERIC.iter().chain(&DEGENERATE).copied().collect();
     let (total, rebuilds) = sweep(&families, StructureKind::Hierarchical, Approximated::Larger);
     assert_rebuilds_rare(StructureKind::Hierarchical, total, rebuilds);
+}
+
+/// The collisions of a run of `s` with `structure` (no audit), the
+/// hierarchy approximating the polygons of more than `above` vertices; the
+/// run must succeed.
+fn collisions(s: &Scenario, structure: StructureKind, above: usize) -> Vec<Collision> {
+    let options = RunOptions {
+        structure,
+        approximate_above: above,
+        ..Default::default()
+    };
+    let mut out = Vec::new();
+    run(s, &options, &mut |e| out.push(collision(e)))
+        .unwrap_or_else(|e| panic!("{} with {above}: {e}", structure.name()));
+    out
+}
+
+/// Scenes with insertions, removals and flight-plan changes at coinciding
+/// instants (`gen::churn`, seeds 0 to 7 in every mode, as `kss gen churn
+/// --seed S --mode M` writes them): `plain` and `hierarchical` (approximating
+/// every polygon, those of more than 6 vertices, and with its default,
+/// which takes these as they are) report exactly brute's collisions, and
+/// the inserted polygons (ids `c...`) take part in them.
+#[test]
+fn churn_scenes_give_identical_events_with_every_structure() {
+    let mut inserted_collisions = 0;
+    for mode in [
+        CollisionMode::Stop,
+        CollisionMode::Remove,
+        CollisionMode::Bounce,
+    ] {
+        for seed in 0..8 {
+            let s = churn(&ChurnParams {
+                mode,
+                seed,
+                ..Default::default()
+            });
+            let want = collisions(&s, StructureKind::Brute, DEFAULT_APPROXIMATE_ABOVE);
+            inserted_collisions += want
+                .iter()
+                .filter(|(_, a, b, _, _)| a.starts_with('c') || b.starts_with('c'))
+                .count();
+            for (structure, above) in [
+                (StructureKind::Plain, DEFAULT_APPROXIMATE_ABOVE),
+                (StructureKind::Hierarchical, 0),
+                (StructureKind::Hierarchical, 6),
+                (StructureKind::Hierarchical, DEFAULT_APPROXIMATE_ABOVE),
+            ] {
+                assert_eq!(
+                    collisions(&s, structure, above),
+                    want,
+                    "seed {seed} {mode:?}: {} with approximate_above {above} and brute differ",
+                    structure.name()
+                );
+            }
+        }
+    }
+    assert!(inserted_collisions >= 10, "{inserted_collisions}");
 }
 
 /// Run every seed of `families` with the reference and `structure`; returns

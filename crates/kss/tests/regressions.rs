@@ -31,44 +31,54 @@
 //! scales 2^±1000 in one scene, bounces at t = 1e-307 between polygons
 //! moving at 5e307, a collision at t = 6.7e-109 of polygons at 6e269, one
 //! moving at 2.6e304: the `extreme_*` files).
-//! Each must give byte-identical output with `brute`, `plain --audit` and
-//! `hierarchical --audit`, the hierarchy approximating every polygon (as
-//! when the files were found: their polygons are small) and, for the
-//! regression scenarios, with its default too.
+//! Each gives exactly brute's collisions (exact times, pairs, order,
+//! repeats and contact points) with `plain` and `hierarchical`, with the
+//! audit after every event, the hierarchy both approximating every polygon
+//! (as when the files were found: their polygons are small) and with its
+//! default. The scenario files are read with `kss::json` and run through
+//! [`kss::run`], as `kss run FILE --structure S --audit` runs them.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-/// The arguments that select `structure` with the audit (not for
-/// `brute`): `hierarchical` approximates every polygon, and
-/// `hierarchical-default` is the hierarchy with its default
-/// `--approximate-above`.
-fn structure_args(structure: &str) -> Vec<String> {
-    let name = structure.trim_end_matches("-default");
-    let mut args = vec!["--structure".to_string(), name.to_string()];
-    if structure != "brute" {
-        args.push("--audit".to_string());
+use kss::json::parse_scenario;
+use kss::{run, RunOptions, RunStats, StructureKind, DEFAULT_APPROXIMATE_ABOVE};
+
+mod common;
+
+use common::{collision, Collision};
+
+/// How a scenario is run, named as on the `kss run` command line:
+/// `brute`; `plain` with the audit; `hierarchical` with the audit,
+/// approximating every polygon (`--approximate-above 0`); and
+/// `hierarchical-default`, the hierarchy with the audit and its default
+/// `approximate_above`.
+fn options(structure: &str) -> RunOptions {
+    let (kind, approximate_above) = match structure {
+        "brute" => (StructureKind::Brute, DEFAULT_APPROXIMATE_ABOVE),
+        "plain" => (StructureKind::Plain, DEFAULT_APPROXIMATE_ABOVE),
+        "hierarchical" => (StructureKind::Hierarchical, 0),
+        "hierarchical-default" => (StructureKind::Hierarchical, DEFAULT_APPROXIMATE_ABOVE),
+        other => panic!("no structure {other:?}"),
+    };
+    RunOptions {
+        structure: kind,
+        audit: kind != StructureKind::Brute,
+        approximate_above,
+        ..Default::default()
     }
-    if structure == "hierarchical" {
-        args.extend(["--approximate-above".to_string(), "0".to_string()]);
-    }
-    args
 }
 
-fn run(file: &Path, structure: &str) -> String {
-    let mut args = vec!["run".to_string(), file.display().to_string()];
-    args.extend(structure_args(structure));
-    let out = Command::new(env!("CARGO_BIN_EXE_kss"))
-        .args(&args)
-        .output()
-        .expect("kss runs");
-    assert!(
-        out.status.success(),
-        "{} --structure {structure}: {}",
-        file.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("utf-8 output")
+/// The collisions and statistics of `file` run with `structure` (see
+/// [`options`]); the run must succeed.
+fn run_file(file: &Path, structure: &str) -> (Vec<Collision>, RunStats) {
+    let text = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let scenario = parse_scenario(&text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let mut collisions = Vec::new();
+    let stats = run(&scenario, &options(structure), &mut |e| {
+        collisions.push(collision(e))
+    })
+    .unwrap_or_else(|e| panic!("{} with {structure}: {e}", file.display()));
+    (collisions, stats)
 }
 
 /// The scenario files `testdata/FOLDER/*.json`, sorted.
@@ -85,56 +95,28 @@ fn scenarios_in(folder: &str) -> Vec<PathBuf> {
     files
 }
 
-/// `plain` and `hierarchical`, with every polygon approximated and with
-/// the default, (with the audit) print exactly `want`, what `brute` prints
-/// for `file`.
-fn assert_structures_agree(file: &Path, want: &str) {
-    for structure in ["plain", "hierarchical", "hierarchical-default"] {
-        assert_eq!(
-            run(file, structure),
-            want,
-            "{} with {structure}",
-            file.display()
-        );
-    }
-}
-
 #[test]
 fn regression_scenarios_agree_with_the_reference() {
     let files = scenarios_in("regressions");
     assert!(files.len() >= 8, "regression scenarios missing");
     for f in &files {
-        let want = run(f, "brute");
+        let (want, _) = run_file(f, "brute");
         assert!(!want.is_empty(), "{}: no collision to check", f.display());
-        assert_structures_agree(f, &want);
+        for structure in ["plain", "hierarchical", "hierarchical-default"] {
+            let (got, _) = run_file(f, structure);
+            assert_eq!(got, want, "{} with {structure}", f.display());
+        }
     }
 }
 
-/// The statistics of `kss run NAME --structure STRUCTURE --audit` for the
-/// regression scenario `NAME`.
-fn stats_of(name: &str, structure: &str) -> serde_json::Value {
+/// The statistics of the regression scenario `NAME` run with `structure`
+/// (see [`options`]: with the audit).
+fn stats_of(name: &str, structure: &str) -> RunStats {
     let file = scenarios_in("regressions")
         .into_iter()
         .find(|p| p.ends_with(name))
         .expect("the scenario");
-    let stats = std::env::temp_dir().join(format!(
-        "kss-stats-{}-{structure}-{name}",
-        std::process::id()
-    ));
-    let out = Command::new(env!("CARGO_BIN_EXE_kss"))
-        .args(["run", &file.display().to_string()])
-        .args(structure_args(structure))
-        .args(["--stats", &stats.display().to_string()])
-        .output()
-        .expect("kss runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = std::fs::read_to_string(&stats).expect("the statistics");
-    let _ = std::fs::remove_file(&stats);
-    serde_json::from_str(&text).expect("JSON statistics")
+    run_file(&file, structure).1
 }
 
 /// Settled contacts that the local operations cannot resolve are repaired
@@ -186,12 +168,9 @@ fn settled_contacts_are_repaired_locally() {
     ] {
         for structure in ["plain", "hierarchical"] {
             let v = stats_of(followed, structure);
-            assert_eq!(v["degenerate_rebuilds"], 0, "{followed} {structure}: {v}");
-            assert_eq!(v["stand_ins"], 0, "{followed} {structure}: {v}");
-            assert!(
-                v["events_processed"].as_u64().unwrap_or(u64::MAX) < 100,
-                "{followed} {structure}: {v}"
-            );
+            assert_eq!(v.degenerate_rebuilds, 0, "{followed} {structure}: {v:?}");
+            assert_eq!(v.stand_ins, 0, "{followed} {structure}: {v:?}");
+            assert!(v.events_processed < 100, "{followed} {structure}: {v:?}");
         }
     }
     for name in [
@@ -205,16 +184,16 @@ fn settled_contacts_are_repaired_locally() {
         "local_repair_past_a_corridor_degenerate_at_the_same_instant.json",
     ] {
         let v = stats_of(name, "plain");
-        assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
-        assert!(v["local_repairs"].as_u64().unwrap_or(0) >= 1, "{name}: {v}");
+        assert_eq!(v.degenerate_rebuilds, 0, "{name}: {v:?}");
+        assert!(v.local_repairs >= 1, "{name}: {v:?}");
     }
     for name in [
         "local_repair_while_two_polygons_slide.json",
         "local_repair_with_a_vertex_on_an_edge.json",
     ] {
         let v = stats_of(name, "hierarchical");
-        assert_eq!(v["degenerate_rebuilds"], 0, "{name}: {v}");
-        assert!(v["local_repairs"].as_u64().unwrap_or(0) >= 1, "{name}: {v}");
+        assert_eq!(v.degenerate_rebuilds, 0, "{name}: {v:?}");
+        assert!(v.local_repairs >= 1, "{name}: {v:?}");
     }
 }
 
@@ -230,12 +209,9 @@ fn settled_contacts_are_repaired_locally() {
 fn local_operations_that_cycle_are_followed_locally() {
     for structure in ["plain", "hierarchical"] {
         let v = stats_of("local_operations_cycle_at_an_instant.json", structure);
-        assert_eq!(v["degenerate_rebuilds"], 0, "{structure}: {v}");
-        assert_eq!(v["stand_ins"], 0, "{structure}: {v}");
-        assert!(
-            v["events_processed"].as_u64().unwrap_or(u64::MAX) < 100,
-            "{structure}: {v}"
-        );
+        assert_eq!(v.degenerate_rebuilds, 0, "{structure}: {v:?}");
+        assert_eq!(v.stand_ins, 0, "{structure}: {v:?}");
+        assert!(v.events_processed < 100, "{structure}: {v:?}");
     }
 }
 
@@ -255,8 +231,8 @@ fn a_vertex_resting_on_a_vertex_is_a_bridge_of_length_zero() {
     ] {
         for structure in ["plain", "hierarchical"] {
             let v = stats_of(name, structure);
-            assert_eq!(v["stand_ins"], 0, "{name} {structure}: {v}");
-            assert_eq!(v["degenerate_rebuilds"], 0, "{name} {structure}: {v}");
+            assert_eq!(v.stand_ins, 0, "{name} {structure}: {v:?}");
+            assert_eq!(v.degenerate_rebuilds, 0, "{name} {structure}: {v:?}");
         }
     }
 }
@@ -278,9 +254,9 @@ fn an_edge_resting_on_an_identical_edge_is_followed() {
     ] {
         for structure in ["plain", "hierarchical"] {
             let v = stats_of(name, structure);
-            assert_eq!(v["stand_ins"], 0, "{name} {structure}: {v}");
-            assert_eq!(v["degenerate_rebuilds"], 0, "{name} {structure}: {v}");
-            assert_eq!(v["collisions"], 2, "{name} {structure}: {v}");
+            assert_eq!(v.stand_ins, 0, "{name} {structure}: {v:?}");
+            assert_eq!(v.degenerate_rebuilds, 0, "{name} {structure}: {v:?}");
+            assert_eq!(v.collisions, 2, "{name} {structure}: {v:?}");
         }
     }
 }
@@ -308,13 +284,10 @@ fn degenerate_instants_are_followed_without_a_rebuild() {
     ] {
         for structure in ["plain", "hierarchical"] {
             let v = stats_of(name, structure);
-            assert_eq!(v["degenerate_rebuilds"], 0, "{name} {structure}: {v}");
-            assert_eq!(v["stand_ins"], 0, "{name} {structure}: {v}");
-            assert_eq!(v["local_repairs"], 0, "{name} {structure}: {v}");
-            assert!(
-                v["events_processed"].as_u64().unwrap_or(u64::MAX) < 100,
-                "{name} {structure}: {v}"
-            );
+            assert_eq!(v.degenerate_rebuilds, 0, "{name} {structure}: {v:?}");
+            assert_eq!(v.stand_ins, 0, "{name} {structure}: {v:?}");
+            assert_eq!(v.local_repairs, 0, "{name} {structure}: {v:?}");
+            assert!(v.events_processed < 100, "{name} {structure}: {v:?}");
         }
     }
 }
@@ -326,6 +299,9 @@ fn degenerate_instants_are_followed_without_a_rebuild() {
 #[test]
 fn a_pop_that_inverts_a_triangle_is_repaired_in_place() {
     let v = stats_of("pop_repaired_by_an_ear_slide.json", "hierarchical");
-    assert_eq!(v["refine_rebuilds"], 0, "{v}");
-    assert!(v["events_by_kind"]["pop"].as_u64().unwrap_or(0) > 0, "{v}");
+    assert_eq!(v.refine_rebuilds, 0, "{v:?}");
+    assert!(
+        v.events_by_kind.get("pop").copied().unwrap_or(0) > 0,
+        "{v:?}"
+    );
 }

@@ -1,20 +1,44 @@
-//! Reading and writing scenario files (the JSON format of the contract,
-//! `docs/scenario-format.md`).
+//! Reading and writing scenario files: the JSON text of the contract,
+//! version 1, specified in `docs/scenario-format.md` (a top-level object
+//! with `version`, `until`, `on_collision`, `polygons` and the optional
+//! `flight_plan_changes`, `insertions` and `removals`). Only with the
+//! `serde` feature of the crate.
+//!
+//! Text in, text out: this module reads no file and writes none.
+//! [`parse_scenario`] turns a file's text into a [`Scenario`] and
+//! [`write_scenario`] turns a [`Scenario`] into a file's text, every
+//! number reading back to the identical double; [`json_f64`] and
+//! [`json_str`] format a number and a string as the contract prints them.
 //!
 //! Reading goes through [`serde_json::Value`] (parsed with correct rounding:
-//! the workspace enables serde_json's `float_roundtrip`) and then walks the
+//! the crate enables serde_json's `float_roundtrip`) and then walks the
 //! tree by hand, so that every error names the entry it is about
 //! (`polygons[2] (id "b")`, `flight_plan_changes[0]`, ...). Only the syntax and
 //! the types are checked here; the semantic rules (convexity, disjointness,
-//! unique ids, change times, ...) are [`kss::Scenario::validate`]'s job.
+//! unique ids, change times, ...) are checked by [`Scenario::validate`],
+//! and by [`crate::run`] before it simulates.
 //!
 //! Writing uses serde structs and serde_json's number formatting, which prints
 //! the shortest decimal that reads back to the identical double.
+//!
+//! ```
+//! use kss::json::{parse_scenario, write_scenario};
+//!
+//! let text = r#"{"version": 1, "until": 4, "on_collision": "bounce", "polygons": [
+//!     {"id": "a", "vertices": [[0,0],[1,0],[0,1]], "position": [0, 0], "velocity": [1, 0]},
+//!     {"id": "b", "vertices": [[0,0],[1,0],[0,1]], "position": [3, 0], "fixed": true}]}"#;
+//! let scenario = parse_scenario(text)?;
+//! assert_eq!(scenario.polygons.len(), 2);
+//! assert!(scenario.polygons[1].fixed);
+//! // written and read again: the identical scenario
+//! assert_eq!(parse_scenario(&write_scenario(&scenario)?)?, scenario);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use serde::Serialize;
 use serde_json::{Map, Value};
 
-use kss::{CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, Scenario};
+use crate::scenario::{CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, Scenario};
 
 /// Why a scenario file could not be read. Every message names the entry.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -128,7 +152,7 @@ fn syntax_error(e: serde_json::Error) -> ScenarioJsonError {
 /// Parses a scenario file's text into a [`Scenario`] (not yet validated).
 ///
 /// ```
-/// let sc = kss_cli::json::parse_scenario(
+/// let sc = kss::json::parse_scenario(
 ///     r#"{"version": 1, "until": 2.5, "polygons": [
 ///         {"id": "a", "vertices": [[0,0],[1,0],[0,1]], "position": [0.1, 0]}]}"#,
 /// ).unwrap();
@@ -141,7 +165,10 @@ pub fn parse_scenario(text: &str) -> Result<Scenario, ScenarioJsonError> {
     scenario_from_value(&root)
 }
 
-/// Builds a [`Scenario`] from an already parsed JSON value.
+/// Builds a [`Scenario`] (not yet validated) from an already parsed JSON
+/// value, the whole file's top-level object; errors as [`parse_scenario`]'s
+/// except [`ScenarioJsonError::Syntax`] and
+/// [`ScenarioJsonError::NumberOutOfRange`], which are the parser's.
 pub fn scenario_from_value(root: &Value) -> Result<Scenario, ScenarioJsonError> {
     let top = "scenario";
     let obj = root

@@ -23,9 +23,9 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::{Duration, Instant};
 
+use kss::json::parse_scenario;
 use kss::rng::Rng;
 use kss::{run, CollisionEvent, RunError, RunOptions, StructureKind};
-use kss_cli::json::parse_scenario;
 
 fn env_u64(name: &str, default: u64) -> u64 {
     std::env::var(name)
