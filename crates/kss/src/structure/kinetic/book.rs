@@ -316,7 +316,7 @@ impl Kinetic {
             if s.owners.is_empty() {
                 let (cert, key, fp) = (s.cert, s.key, s.fp.as_deref().copied());
                 let at = due_time(&self.queue, key, &s.popped).cloned();
-                let due = self.handling == Some(*p) || self.due_now(p, key, now);
+                let due = self.instant.handling == Some(*p) || self.due_now(p, key, now);
                 if !due && fresh.contains(&cert) {
                     // the same certificate again, not due at this instant:
                     // it keeps its place in the queue (its failure time
@@ -324,7 +324,7 @@ impl Kinetic {
                     kept.push(*p);
                     continue;
                 }
-                if self.handling != Some(*p)
+                if self.instant.handling != Some(*p)
                     && due
                     && due_is_failing(world, &cert, (fp.as_ref(), at.as_ref()), now)
                 {
@@ -347,7 +347,7 @@ impl Kinetic {
                     self.schedule_new(world, c, o, now);
                 }
                 Some(s) if s.cert.sign != c.sign => {
-                    if self.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
+                    if self.instant.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
                         let e = format!(
                             "contradictory certificates on {:?} ({:?} and {:?})",
                             c.p, s.owners, o
@@ -425,8 +425,12 @@ impl Kinetic {
         match key {
             Some(k) => self.queue.get(k).is_some_and(|(t, _)| t == now),
             None => {
-                self.waiting.contains(p)
-                    || self.later.as_ref().is_some_and(|(_, ps)| ps.contains(p))
+                self.instant.waiting.contains(p)
+                    || self
+                        .instant
+                        .later
+                        .as_ref()
+                        .is_some_and(|(_, ps)| ps.contains(p))
             }
         }
     }

@@ -35,12 +35,15 @@ macro_rules! trace {
 
 mod audit;
 mod book;
+mod instant;
 mod motion;
 mod repair;
 mod step;
 mod tally;
 
 pub use tally::{Rebuild, Tally};
+
+use instant::InstantState;
 
 /// A hash map with a fixed hasher (the same order in every run).
 type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
@@ -108,47 +111,15 @@ pub struct Kinetic {
     owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,
     max_active: usize,
-    /// Certificates popped at the current instant and set aside: contacts
-    /// (the collision response changes the motions) and failures next to a
-    /// contact. Rescheduled by [`Kinetic::motion_changed`].
-    waiting: Vec<[Att; 3]>,
-    /// Popped failures of the current instant that wait until every possible
-    /// contact of the instant has been classified.
-    later: Option<(Time, Vec<[Att; 3]>)>,
-    /// The certificate whose failure is being handled.
-    handling: Option<[Att; 3]>,
-    /// The local operations failed (or the hierarchy was refined) at an
-    /// instant with contacts: the structure is rebuilt when the collision
-    /// response is applied (the rebuild's kind: [`Rebuild::Degenerate`] or
-    /// [`Rebuild::Refine`]).
-    broken: Option<Rebuild>,
-    /// For a [`Rebuild::Refine`] after the response: the bodies whose
-    /// approximations were refined (the region a local repair takes
-    /// instead); for a [`Rebuild::Degenerate`], the bodies of the certificate
-    /// on which the local operations failed, with it and the certificates
-    /// deferred after it. `None` after a refinement if an event was
-    /// deferred meanwhile (the deferred events need the whole structure
-    /// rebuilt).
-    broken_around: Option<(Vec<BodyId>, Vec<[Att; 3]>)>,
+    /// What the engine holds about the current instant.
+    instant: InstantState,
     /// Internal events and fallbacks by kind.
     pub tally: Tally,
     /// The instant of the latest [`Kinetic::rebuild_after`] that found no
     /// structure (polygons may rest in contact there; the driver decides).
     pub unbuildable: Option<Time>,
-    /// Pairs of bodies that touched at the current instant without a
-    /// collision (they slid along each other, or a response already
-    /// separates them): with the hierarchy, the driver then pops the
-    /// approximation points that would slide along the other body
-    /// ([`Kinetic::take_settled`]).
-    settled: Vec<(BodyId, BodyId)>,
     /// The corridors the last operation touched (where coarsening is tried).
     last_touched: Vec<CorrId>,
-    /// The last few certificates handled at the instant of the last one
-    /// (where local operations that cycle at one instant are repaired,
-    /// [`Kinetic::repair_cycle`]).
-    recent: std::collections::VecDeque<[Att; 3]>,
-    /// The instant of `recent`.
-    recent_at: Option<Time>,
     /// Rotates the coarsening candidates.
     tick: u64,
 }
@@ -245,14 +216,14 @@ impl Kinetic {
     fn replace_with(&mut self, mut fresh: Kinetic) {
         fresh.tally = std::mem::take(&mut self.tally);
         // the touches of this instant still need their pops afterwards
-        fresh.settled = std::mem::take(&mut self.settled);
+        fresh.instant.settled = std::mem::take(&mut self.instant.settled);
         fresh.max_active = fresh.max_active.max(self.max_active);
         *self = fresh;
     }
 
     /// The earliest scheduled failure, if any.
     pub fn next_time(&self) -> Option<&Time> {
-        match &self.later {
+        match &self.instant.later {
             Some((t, _)) => Some(t),
             None => self.queue.peek().map(|(_, t, _, _)| t),
         }

@@ -14,6 +14,7 @@ use crate::structure::{Att, CorrId, Obj};
 use crate::world::BodyId;
 
 use super::book::is_failing;
+use super::instant::Broken;
 use super::tally::Rebuild;
 use super::{FastMap, Kinetic};
 
@@ -29,7 +30,7 @@ impl Kinetic {
     ) -> Result<(), StructureError> {
         // (the motions changed: operations before this are no cycle of
         // operations after it)
-        self.recent.clear();
+        self.instant.recent.clear();
         let mut touched: Vec<[Att; 3]> = bodies
             .iter()
             .filter_map(|b| self.by_body.get(b))
@@ -43,7 +44,7 @@ impl Kinetic {
                 world.body(_b).traj.velocity().to_f64()
             );
         }
-        let waiting = std::mem::take(&mut self.waiting);
+        let waiting = std::mem::take(&mut self.instant.waiting);
         touched.extend(waiting.iter().copied());
         touched.sort();
         touched.dedup();
@@ -125,17 +126,17 @@ impl Kinetic {
                 // is now zero for ever) is no longer a failure: its owners get
                 // their certificates anew (an order certificate for that
                 // triple)
-                self.handling = Some(p);
+                self.instant.handling = Some(p);
                 for o in owners {
                     if matches!(o, Owner::Corr(_)) {
                         self.refresh(world, o, now)?;
                     }
                 }
-                self.handling = None;
+                self.instant.handling = None;
             }
         }
         // (not when the structure is about to be rebuilt anyway)
-        let (reshape, resting) = if self.broken.is_some() {
+        let (reshape, resting) = if self.instant.broken.is_some() {
             (BTreeSet::new(), BTreeSet::new())
         } else {
             (reshape, resting)
@@ -165,14 +166,16 @@ impl Kinetic {
                     })
                     .collect();
                 let first = self.owned_corr[k.0 as usize].first().copied();
-                self.broken = Some(Rebuild::Degenerate);
-                self.broken_around = first.map(|p| (bodies, vec![p]));
+                self.instant.broken = Some(Broken {
+                    kind: Rebuild::Degenerate,
+                    around: first.map(|p| (bodies, vec![p])),
+                });
                 break;
             }
             self.refresh(world, Owner::Corr(k), now)?;
         }
         for k in reshape {
-            if self.broken.is_some() {
+            if self.instant.broken.is_some() {
                 break;
             }
             let mid = self.kss.corrs[k.0 as usize].mid;
@@ -200,8 +203,8 @@ impl Kinetic {
                 self.kss.held.insert(k, h);
             }
         }
-        if let Some(kind) = self.broken.take() {
-            let (around, triples) = self.broken_around.take().unwrap_or_default();
+        if let Some(Broken { kind, around }) = self.instant.broken.take() {
+            let (around, triples) = around.unwrap_or_default();
             if kind == Rebuild::Refine && self.repair_refined(world, &around, &triples, now) {
                 for p in &triples {
                     self.reschedule_idle(world, p, now);

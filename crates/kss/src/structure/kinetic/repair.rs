@@ -13,6 +13,7 @@ use crate::structure::{Att, Obj};
 use crate::world::BodyId;
 
 use super::book::{cert_poly, due_is_failing, resting_flat};
+use super::instant::Broken;
 use super::tally::Rebuild;
 use super::{due_time, Kinetic};
 
@@ -146,7 +147,7 @@ impl Kinetic {
         b: BodyId,
         now: &Time,
     ) -> Result<bool, StructureError> {
-        if self.broken.is_some() {
+        if self.instant.broken.is_some() {
             return Ok(false);
         }
         if world.bodies().iter().filter(|x| x.alive).count() < 2 {
@@ -188,7 +189,7 @@ impl Kinetic {
         handled: [Att; 3],
         now: &Time,
     ) -> Result<bool, StructureError> {
-        if self.broken.is_some() {
+        if self.instant.broken.is_some() {
             return Ok(false);
         }
         // the certificate being handled is never held against the motion
@@ -213,7 +214,7 @@ impl Kinetic {
         triples: &[[Att; 3]],
         now: &Time,
     ) -> bool {
-        if bodies.is_empty() || self.broken.is_some() {
+        if bodies.is_empty() || self.instant.broken.is_some() {
             return false;
         }
         // the certificates that failed stay out of the queue until their
@@ -342,7 +343,7 @@ impl Kinetic {
         b: BodyId,
         now: &Time,
     ) -> Result<bool, StructureError> {
-        if self.broken.is_some() || self.kss.tris.is_empty() {
+        if self.instant.broken.is_some() || self.kss.tris.is_empty() {
             return Ok(false);
         }
         let Some(first) = nearest_body(world, b, now) else {
@@ -535,8 +536,10 @@ impl Kinetic {
     /// Give up on the local operations at this instant (they cycle) and
     /// rebuild once the collision response has been applied.
     pub fn give_up_instant(&mut self) {
-        self.broken = Some(Rebuild::Degenerate);
-        self.broken_around = None;
+        self.instant.broken = Some(Broken {
+            kind: Rebuild::Degenerate,
+            around: None,
+        });
     }
 
     /// The structure is rebuilt (counted as `kind`) once the collision
@@ -550,18 +553,21 @@ impl Kinetic {
         kind: Rebuild,
         (around, triples): (&[BodyId], &[[Att; 3]]),
     ) {
-        if self.broken.is_none() {
-            self.broken = Some(kind);
-            self.broken_around = Some((around.to_vec(), triples.to_vec()));
-        } else {
-            self.broken_around = None;
+        match self.instant.broken.as_mut() {
+            None => {
+                self.instant.broken = Some(Broken {
+                    kind,
+                    around: Some((around.to_vec(), triples.to_vec())),
+                })
+            }
+            Some(b) => b.around = None,
         }
     }
 
     /// The pairs that touched without a collision since the last call (see
     /// the field `settled`).
     pub fn take_settled(&mut self) -> Vec<(BodyId, BodyId)> {
-        std::mem::take(&mut self.settled)
+        std::mem::take(&mut self.instant.settled)
     }
 
     /// Rebuild the structure from scratch for the instants just after `now`:

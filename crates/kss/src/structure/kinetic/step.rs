@@ -14,6 +14,7 @@ use crate::structure::{Att, Kss, Obj, TriId};
 use crate::world::BodyId;
 
 use super::book::due_is_failing;
+use super::instant::Broken;
 use super::tally::Rebuild;
 use super::{due_time, Kinetic, Step};
 
@@ -154,17 +155,17 @@ impl Kinetic {
             .queue
             .peek()
             .map(|(key, t, tie, &p)| (key, t.clone(), tie, p));
-        let use_later = match (&self.later, &head) {
+        let use_later = match (&self.instant.later, &head) {
             (None, _) => false,
             (Some(_), None) => true,
             (Some((lt, _)), Some((_, t, tie, _))) => t > lt || *tie > 0,
         };
         if use_later {
-            let (t, ps) = self.later.as_mut().expect("checked");
+            let (t, ps) = self.instant.later.as_mut().expect("checked");
             let t = t.clone();
             let p = ps.pop().expect("non-empty");
             if ps.is_empty() {
-                self.later = None;
+                self.instant.later = None;
             }
             return self.handle_or_rebuild(world, p, t, contacts, collides);
         }
@@ -210,9 +211,9 @@ impl Kinetic {
             }
             // not a contact, or a touch that is not a collision: a
             // structural failure
-            match &mut self.later {
+            match &mut self.instant.later {
                 Some((_, ps)) => ps.push(p),
-                None => self.later = Some((t.clone(), vec![p])),
+                None => self.instant.later = Some((t.clone(), vec![p])),
             }
             return Ok(Step::Deferred(t));
         }
@@ -245,7 +246,7 @@ impl Kinetic {
             .filter(|&(a, b)| collides(a, b, t))
             .collect();
         if !colliding.is_empty() {
-            self.waiting.push(p);
+            self.instant.waiting.push(p);
             return Some(Step::Contact(t.clone(), colliding));
         }
         p.iter()
@@ -264,19 +265,21 @@ impl Kinetic {
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, StructureError> {
-        if self.broken.is_some() {
+        if self.instant.broken.is_some() {
             // this event waits for the rebuild. After a refinement a local
             // repair would miss it; after failed local operations it is
             // scheduled again once the region around them is repaired (and
             // handled then, at this instant if it still fails at it)
-            match (self.broken, self.broken_around.as_mut()) {
-                (Some(Rebuild::Degenerate), Some((_, triples))) => triples.push(p),
-                _ => self.broken_around = None,
+            if let Some(b) = self.instant.broken.as_mut() {
+                match (b.kind, b.around.as_mut()) {
+                    (Rebuild::Degenerate, Some((_, triples))) => triples.push(p),
+                    _ => b.around = None,
+                }
             }
             return Ok(Step::Deferred(t));
         }
         match self.handle(world, p, t.clone(), contacts, collides) {
-            Err(e) if contacts.is_empty() && self.waiting.is_empty() => {
+            Err(e) if contacts.is_empty() && self.instant.waiting.is_empty() => {
                 trace!("local operations failed at {}: {e}; repairing", t.to_f64());
                 #[cfg(feature = "trace")]
                 self.kss.trace_dump();
@@ -284,8 +287,8 @@ impl Kinetic {
                 // triangle handled first for `p`'s corridor may have a
                 // polygon that `p` does not name)
                 let mut bodies = bodies_of(&p);
-                if self.recent_at.as_ref() == Some(&t) {
-                    if let Some(q) = self.recent.back() {
+                if self.instant.recent_at.as_ref() == Some(&t) {
+                    if let Some(q) = self.instant.recent.back() {
                         bodies.extend(bodies_of(q));
                         bodies.sort();
                         bodies.dedup();
@@ -317,8 +320,10 @@ impl Kinetic {
                     "local operations failed at {}: {_e}; repairing after the response",
                     t.to_f64()
                 );
-                self.broken = Some(Rebuild::Degenerate);
-                self.broken_around = Some((bodies_of(&p), vec![p]));
+                self.instant.broken = Some(Broken {
+                    kind: Rebuild::Degenerate,
+                    around: Some((bodies_of(&p), vec![p])),
+                });
                 Ok(Step::Deferred(t))
             }
             other => other,
@@ -331,11 +336,11 @@ impl Kinetic {
     /// normalization, [`Kinetic::alternate_normalization`], and if they
     /// still cycle tries [`Kinetic::repair_cycle`]).
     pub fn cycling(&self, now: &Time) -> bool {
-        self.recent_at.as_ref() == Some(now)
-            && self
-                .recent
+        let recent = &self.instant.recent;
+        self.instant.recent_at.as_ref() == Some(now)
+            && recent
                 .back()
-                .is_some_and(|p| self.recent.iter().filter(|&q| q == p).count() >= 4)
+                .is_some_and(|p| recent.iter().filter(|&q| q == p).count() >= 4)
     }
 
     /// The local operations cycle at `now`: for the rest of the instant,
@@ -353,7 +358,7 @@ impl Kinetic {
             now.to_f64()
         );
         self.kss.fewest_held = Some(now.clone());
-        self.recent.clear();
+        self.instant.recent.clear();
         true
     }
 
@@ -365,17 +370,17 @@ impl Kinetic {
     /// structure is the one for just after `now`. `false` when there is
     /// none (the caller rebuilds the whole structure).
     pub fn repair_cycle(&mut self, world: &Geo, now: &Time) -> Result<bool, StructureError> {
-        let Some(&last) = self.recent.back() else {
+        let Some(&last) = self.instant.recent.back() else {
             return Ok(false);
         };
         trace!("repair_cycle at {}", now.to_f64());
-        let mut bodies: Vec<BodyId> = self.recent.iter().flat_map(bodies_of).collect();
+        let mut bodies: Vec<BodyId> = self.instant.recent.iter().flat_map(bodies_of).collect();
         bodies.sort();
         bodies.dedup();
         if !self.repair_around(world, (&bodies, false), last, now)? {
             return Ok(false);
         }
-        for p in std::mem::take(&mut self.recent) {
+        for p in std::mem::take(&mut self.instant.recent) {
             if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
                 self.reschedule(world, &p, now);
             }
@@ -400,14 +405,14 @@ impl Kinetic {
         }
         let (cert, fp, popped) = (s.cert, s.fp.as_deref().copied(), s.popped.clone());
         let owners = s.owners.clone();
-        if self.recent_at.as_ref() != Some(&t) {
-            self.recent.clear();
-            self.recent_at = Some(t.clone());
+        if self.instant.recent_at.as_ref() != Some(&t) {
+            self.instant.recent.clear();
+            self.instant.recent_at = Some(t.clone());
         }
-        if self.recent.len() == RECENT {
-            self.recent.pop_front();
+        if self.instant.recent.len() == RECENT {
+            self.instant.recent.pop_front();
         }
-        self.recent.push_back(p);
+        self.instant.recent.push_back(p);
         if !due_is_failing(world, &cert, (fp.as_ref(), popped.as_deref()), &t) {
             // an operation at this instant made it hold again
             self.reschedule(world, &p, &t);
@@ -442,15 +447,15 @@ impl Kinetic {
                 .flatten()
             {
                 let pair = (pair.0.min(pair.1), pair.0.max(pair.1));
-                if !self.settled.contains(&pair) {
-                    self.settled.push(pair);
+                if !self.instant.settled.contains(&pair) {
+                    self.instant.settled.push(pair);
                 }
             }
             match settled_between(world, &cert, &t) {
                 Some(f) => failure = f,
                 None => {
                     trace!("settled contact at {}: repairing", t.to_f64());
-                    if contacts.is_empty() && self.waiting.is_empty() {
+                    if contacts.is_empty() && self.instant.waiting.is_empty() {
                         let bodies: Vec<BodyId> =
                             [Some(a), Some(b), third].into_iter().flatten().collect();
                         if self.repair_around(world, (&bodies, true), p, &t)? {
@@ -466,7 +471,7 @@ impl Kinetic {
                     // contacts at this instant: set aside until the
                     // response has set the motions, then handled again
                     // (repaired then, if it still fails)
-                    self.waiting.push(p);
+                    self.instant.waiting.push(p);
                     return Ok(Step::Deferred(t));
                 }
             }
@@ -479,7 +484,7 @@ impl Kinetic {
                         .any(|x| x.obj == Obj::Body(a) || x.obj == Obj::Body(b))
                 });
                 if near_contact {
-                    self.waiting.push(p);
+                    self.instant.waiting.push(p);
                     return Ok(Step::Deferred(t));
                 }
                 let owner = *owners
@@ -524,10 +529,10 @@ impl Kinetic {
                     return self.handle(world, q, t, contacts, collides);
                 }
                 let out = self.kss.process(world, owner, p, middle, &t)?;
-                self.handling = Some(p);
+                self.instant.handling = Some(p);
                 self.kss.handling = Some(p);
                 let applied = self.apply(world, out, &t);
-                self.handling = None;
+                self.instant.handling = None;
                 self.kss.handling = None;
                 applied?;
                 // a certificate that outlived the operation unchanged fails
