@@ -66,9 +66,9 @@ impl CliError {
             e @ RunError::InsertionTouches { .. } => {
                 CliError::new(ErrorKind::Invalid, format!("{source}: {e}"))
             }
-            e @ (RunError::Internal(_) | RunError::Aborted(_)) => {
-                CliError::new(ErrorKind::Internal, e.to_string())
-            }
+            // an internal error, an aborted finder, and any kind of error a
+            // later version of the library adds
+            e => CliError::new(ErrorKind::Internal, e.to_string()),
         }
     }
 }

@@ -42,6 +42,7 @@ use crate::scenario::{CollisionMode, FlightPlanChange, Insertion, PolygonSpec, R
 
 /// Why a scenario file could not be read. Every message names the entry.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ScenarioJsonError {
     /// The text is not JSON.
     #[error("malformed JSON at line {line}, column {column}: {message}")]

@@ -93,6 +93,7 @@ pub struct Scenario {
 /// Why a scenario is invalid. Every message names the offending polygon(s) or
 /// entry and says how to fix it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ScenarioError {
     /// `until` is not a finite number greater than 0.
     #[error("`until` is {0}: it must be a finite number greater than 0")]

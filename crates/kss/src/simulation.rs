@@ -77,6 +77,7 @@ impl Default for SimOptions {
 /// [`SimError::Aborted`] and [`SimError::Internal`] leaves the simulation
 /// unchanged.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SimError {
     /// A polygon or a number breaks a rule of the scenario contract.
     #[error(transparent)]

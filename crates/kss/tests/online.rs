@@ -108,6 +108,7 @@ fn variant(e: &SimError) -> &'static str {
         SimError::NotColliding { .. } => "NotColliding",
         SimError::Aborted(_) => "Aborted",
         SimError::Internal(_) => "Internal",
+        _ => "another",
     }
 }
 

@@ -52,6 +52,7 @@ impl StructureKind {
 
 /// Why a run could not complete.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RunError {
     /// The scenario is invalid.
     #[error(transparent)]
