@@ -84,6 +84,12 @@ impl EventKind {
     }
 }
 
+impl std::fmt::Display for EventKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// What an operation did and what it touched.
 #[derive(Clone, Debug)]
 pub struct Outcome {
