@@ -523,7 +523,8 @@ impl Kss {
                 #[cfg(feature = "trace")]
                 eprintln!(
                     "  repaired: triangle {} collapses at corner {e}: {}",
-                    bad.0, out.kind
+                    bad.0,
+                    out.kind.name()
                 );
                 *corrs = c2;
                 *tris = t2;
@@ -606,10 +607,25 @@ impl Kss {
         for &k in corrs {
             let c = &self.corrs[k.0 as usize];
             if c.b == Obj::Omega {
-                let hull_ok = self
-                    .hull_turns(geo, k)
+                let turns = self.hull_turns(geo, k);
+                let hull_ok = turns.iter().all(|&(p, _)| sign(p) != Sign::Negative);
+                // a polygon's only hull vertex: both hull bridges there
+                // keep the polygon inside (its neighbours on the inner side
+                // of each); the turn (y, a_s, x) alone lets through a
+                // bridge that cuts the polygon off the hull, with a twisted
+                // corridor behind it that no junction sign shows (the
+                // bridge through a polygon at 7.7e-34 beside one moving at
+                // 3e226)
+                let tangent = |[y, v, x]: [Att; 3]| {
+                    [
+                        super::faces::step_ccw(geo, v),
+                        super::faces::step_cw(geo, v, 1),
+                    ]
                     .into_iter()
-                    .all(|(p, _)| sign(p) != Sign::Negative);
+                    .filter(|&n| n != v)
+                    .all(|n| sign([y, v, n]) != Sign::Negative && sign([v, x, n]) != Sign::Negative)
+                };
+                let hull_ok = hull_ok && (c.len_a > 0 || turns.iter().all(|&(p, _)| tangent(p)));
                 if !hull_ok {
                     #[cfg(feature = "trace")]
                     eprintln!("  hull turns of corridor {} fail before t", k.0);
@@ -618,6 +634,26 @@ impl Kss {
                 continue;
             }
             if c.len_a == 0 && c.len_b == 0 {
+                // an empty corridor's bridge has no junction to check: it
+                // must not point into the polygon's corner at either end
+                // (strictly left of both edges there), else it runs through
+                // that polygon
+                let (a_s, b_s, _, _) = self.ends(k);
+                let into = |v: Att, w: Att| {
+                    let (up, down) = (
+                        super::faces::step_ccw(geo, v),
+                        super::faces::step_cw(geo, v, 1),
+                    );
+                    sign([down, v, w]) == Sign::Positive && sign([v, up, w]) == Sign::Positive
+                };
+                if into(a_s, b_s) || into(b_s, a_s) {
+                    #[cfg(feature = "trace")]
+                    eprintln!(
+                        "  the bridge of empty corridor {} enters a polygon before t",
+                        k.0
+                    );
+                    return false;
+                }
                 self.corrs[k.0 as usize].mid = None;
                 continue;
             }
