@@ -285,12 +285,10 @@ fn check(text: &str) -> Result<&'static str, String> {
     })
 }
 
-/// Seeds whose texts are known failures, each kept (minimized) as an
-/// ignored test below and in `testdata/known-failures/`; the sweep skips
-/// them and says so.
-const KNOWN_FAILURES: &[u64] = &[
-    58, 105393, 111936, 200238, 301357, 302766, 305759, 310360, 311604,
-];
+/// Seeds whose texts are known failures, kept in `testdata/known-failures/`
+/// (the one that fails, as an ignored test below; the slow one); the sweep
+/// skips them and says so.
+const KNOWN_FAILURES: &[u64] = &[111936, 310360];
 
 #[test]
 fn scenario_texts_across_the_range_of_doubles() {
@@ -368,64 +366,6 @@ fn scenario_texts_across_the_range_of_doubles() {
         counts.get("valid, collisions").copied().unwrap_or(0) > 0 || done < 50,
         "the generator makes scenes with collisions: {counts:?}"
     );
-}
-
-/// A fuzzer find (seed 58, minimized) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy's audit finds a bridge through a polygon beside one flying off at 4.5e305"]
-fn hierarchy_beside_a_polygon_flying_off_at_4e305() {
-    known_failure("hierarchy_bridge_through_a_polygon_beside_one_flying_off_at_4e305.json");
-}
-
-/// A fuzzer find (seed 105393) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy finds no rebuild after a bounce at t = 2.8e-174 between polygons at 8e172"]
-fn hierarchy_after_a_bounce_at_2_8e_minus_174() {
-    known_failure("hierarchy_no_rebuild_after_a_bounce_at_2.8e-174.json");
-}
-
-/// A fuzzer find (seed 200238) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy approximating every polygon finds no decomposition and no rebuild at t = 0.041"]
-fn hierarchy_at_0_041_beside_a_polygon_moving_at_3e296() {
-    known_failure("hierarchy_no_decomposition_at_0.041_beside_a_polygon_moving_at_3e296.json");
-}
-
-/// A fuzzer find (seed 301357) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy approximating every polygon puts a bridge through a polygon at t = 1.4e-168 beside one moving at 4e169"]
-fn hierarchy_at_1_4e_minus_168_beside_a_polygon_moving_at_4e169() {
-    known_failure("hierarchy_bridge_through_a_polygon_at_1.4e-168_beside_one_moving_at_4e169.json");
-}
-
-/// A fuzzer find (seed 302766) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy approximating every polygon puts a bridge through a polygon at t = 7.7e-34 beside one moving at 3e226"]
-fn hierarchy_at_7_7e_minus_34_beside_a_polygon_moving_at_3e226() {
-    known_failure("hierarchy_bridge_through_a_polygon_at_7.7e-34_beside_one_moving_at_3e226.json");
-}
-
-/// A fuzzer find (seed 305759) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy approximating every polygon puts a bridge through a polygon at t = 1.1e-307 beside ones moving at 7e306"]
-fn hierarchy_at_1_1e_minus_307_beside_polygons_moving_at_7e306() {
-    known_failure(
-        "hierarchy_bridge_through_a_polygon_at_1.1e-307_beside_ones_moving_at_7e306.json",
-    );
-}
-
-/// A fuzzer find (seed 311604) that still fails: see
-/// `testdata/known-failures/README.md`.
-#[test]
-#[ignore = "known failure: the hierarchy approximating every polygon puts a bridge through a polygon at t = 0.49 beside one moving at 2e271"]
-fn hierarchy_at_0_49_beside_a_polygon_moving_at_2e271() {
-    known_failure("hierarchy_bridge_through_a_polygon_at_0.49_beside_one_moving_at_2e271.json");
 }
 
 /// A fuzzer find (seed 310360) that still fails: see

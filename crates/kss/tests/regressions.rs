@@ -30,7 +30,10 @@
 //! subnormal, 1e-300 beside 1e300, a 1e-18 triangle among unit ones,
 //! scales 2^±1000 in one scene, bounces at t = 1e-307 between polygons
 //! moving at 5e307, a collision at t = 6.7e-109 of polygons at 6e269, one
-//! moving at 2.6e304: the `extreme_*` files).
+//! moving at 2.6e304: the `extreme_*` files), among them pops of the
+//! hierarchy beside polygons moving at 1e169 to 7e306 whose repair must not
+//! cut a polygon off the hull at a lone hull vertex or leave an empty
+//! corridor's bridge entering a polygon (`extreme_hierarchy_*`).
 //! Each gives exactly brute's collisions (exact times, pairs, order,
 //! repeats and contact points) with `plain` and `hierarchical`, with the
 //! audit after every event, the hierarchy both approximating every polygon
