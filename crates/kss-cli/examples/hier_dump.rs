@@ -4,6 +4,7 @@
 //! hierarchy approximates every polygon here).
 //!
 //! `cargo run -p kss-cli --example hier_dump -- SCENARIO.json TIME [plain]`
+
 use kss::{RunOptions, StructureKind};
 
 fn main() {

@@ -3,6 +3,7 @@
 //! two bodies.
 //!
 //! `cargo run -p kss-cli --example structure_dump -- SCENARIO.json TIME BODY BODY`
+
 use kss::num::{Rational, Time};
 use kss::structure::geo::Geo;
 use kss::structure::kinetic::{Kinetic, Step};

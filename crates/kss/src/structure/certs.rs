@@ -13,13 +13,13 @@
 //! certificate. Turns that are identically zero (three points that stay on a
 //! line) never change and are not certificates.
 
-use crate::structure::StructureError;
 use std::collections::BTreeMap;
 
 use super::faces::turn_after;
 use super::geo::Geo;
 use super::{Att, CorrId, Kss, Obj};
 use crate::num::{Sign, Time};
+use crate::structure::StructureError;
 
 /// Why a certificate exists.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

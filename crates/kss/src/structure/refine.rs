@@ -13,7 +13,6 @@
 //! approximation towards its polygon, and polygons that are apart are
 //! separated after finitely many pops, so the loops end.
 
-use crate::structure::StructureError;
 use std::sync::Arc;
 
 use super::faces::turn_after;
@@ -23,6 +22,7 @@ use crate::geom::orient;
 use crate::hier::EdgeArray;
 use crate::motion::dot_poly;
 use crate::num::{Rational, Sign, Time};
+use crate::structure::StructureError;
 use crate::world::{Body, BodyId, World};
 
 /// Every alive body with more than `above` vertices seen through the

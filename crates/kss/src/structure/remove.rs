@@ -21,7 +21,6 @@
 //! has no triangulation even shrunk, or fewer than two bodies stay) is
 //! reported as an error and the caller rebuilds.
 
-use crate::structure::StructureError;
 use std::collections::{HashMap, HashSet};
 
 use super::build::{cross_two_object_face, is_partition, Vertices};
@@ -29,6 +28,7 @@ use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
 use crate::cdt::{self, CdtError};
 use crate::num::{Rational, Sign, Time};
+use crate::structure::StructureError;
 use crate::world::BodyId;
 
 /// An end of a planned corridor: a side of a new triangle (by its index

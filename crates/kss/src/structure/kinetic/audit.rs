@@ -2,11 +2,11 @@
 //! checked exactly at a rational instant between events, against a
 //! recomputation from scratch.
 
-use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::num::{Rational, Sign, Time};
 use crate::structure::geo::Geo;
+use crate::structure::StructureError;
 
 use super::book::{cert_poly, resting_flat};
 use super::Kinetic;

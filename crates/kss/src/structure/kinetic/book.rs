@@ -4,7 +4,6 @@
 //! and the scheduling, rescheduling and dropping of certificates as the
 //! structure changes.
 
-use crate::structure::StructureError;
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::motion::{orient_poly, LinearPoint};
@@ -15,6 +14,7 @@ use crate::sim::EventKey;
 use crate::structure::certs::Cert;
 use crate::structure::geo::{Geo, PointRef};
 use crate::structure::ops::Owner;
+use crate::structure::StructureError;
 use crate::structure::{Att, CorrId, Obj, TriId};
 use crate::world::BodyId;
 

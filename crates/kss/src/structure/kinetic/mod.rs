@@ -13,7 +13,7 @@
 //! - `motion`: flight-plan changes and collision responses;
 //! - `repair`: pops, removals, insertions, local repair, rebuilds, merges;
 //! - `audit`: the exact check of every invariant between events.
-use crate::structure::StructureError;
+
 use std::collections::BTreeSet;
 
 use super::certs::Cert;
@@ -22,6 +22,7 @@ use super::ops::Owner;
 use super::{Att, CorrId, Kss};
 use crate::num::{Rational, Time};
 use crate::sim::{EventKey, EventQueue};
+use crate::structure::StructureError;
 use crate::world::BodyId;
 
 /// Debug tracing of every failure (`--features trace`; the library does no

@@ -3,13 +3,13 @@
 //! must be re-normalized first where the new motions make a certificate fail
 //! at once.
 
-use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::motion::orient_poly;
 use crate::num::{Interval, Sign, Time};
 use crate::structure::geo::Geo;
 use crate::structure::ops::Owner;
+use crate::structure::StructureError;
 use crate::structure::{Att, CorrId, Obj};
 use crate::world::BodyId;
 

@@ -3,12 +3,12 @@
 //! a degenerate instant, the rebuild for just after an instant, and the
 //! hierarchy's coarsening (merges) after an operation.
 
-use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::num::{Sign, Time};
 use crate::structure::geo::Geo;
 use crate::structure::ops::Owner;
+use crate::structure::StructureError;
 use crate::structure::{Att, Obj};
 use crate::world::BodyId;
 

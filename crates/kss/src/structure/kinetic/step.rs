@@ -3,13 +3,13 @@
 //! do not, or a structural event), and handle it by a local operation; the
 //! guard against local operations that cycle at one instant.
 
-use crate::structure::StructureError;
 use std::collections::BTreeSet;
 
 use crate::num::{Interval, Time};
 use crate::structure::events::{classify, nearby_contact, settled_between, Failure};
 use crate::structure::geo::Geo;
 use crate::structure::ops::{Outcome, Owner};
+use crate::structure::StructureError;
 use crate::structure::{Att, Kss, Obj, TriId};
 use crate::world::BodyId;
 
