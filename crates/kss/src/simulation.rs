@@ -147,6 +147,8 @@ impl From<RunError> for SimError {
         match e {
             RunError::Invalid(e) => SimError::Invalid(e),
             RunError::Aborted(e) => SimError::Aborted(e),
+            // (the message without the variant's prefix: `SimError` adds its own)
+            RunError::Internal(e) => SimError::Internal(e),
             other => SimError::Internal(other.to_string()),
         }
     }
@@ -716,5 +718,19 @@ impl Simulation {
             .as_rational()
             .cloned()
             .ok_or_else(|| SimError::Internal("irrational current time".into()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_internal_error_says_so_once() {
+        let e = SimError::from(RunError::Internal("x".into()));
+        assert_eq!(
+            e.to_string(),
+            "internal error (a bug in kss, please report it): x"
+        );
     }
 }
