@@ -286,7 +286,7 @@ fn check(text: &str) -> Result<&'static str, String> {
 }
 
 /// Seeds whose texts are known failures, kept in `testdata/known-failures/`
-/// (the one that fails, as an ignored test below; the slow one); the sweep
+/// (those that fail, as ignored tests below; the slow one); the sweep
 /// skips them and says so.
 const KNOWN_FAILURES: &[u64] = &[111936, 310360, 406620];
 
