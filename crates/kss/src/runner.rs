@@ -85,7 +85,9 @@ pub struct RunStats {
     pub events_processed: u64,
     /// Events by kind.
     pub events_by_kind: BTreeMap<String, u64>,
-    /// Largest number of active (scheduled) certificates.
+    /// Largest number of active certificates: queued, or out of the queue
+    /// until a bridge of a collision response ends, where they are queued
+    /// again.
     pub certificates_max: u64,
     /// Active certificates at the end.
     pub certificates_final: u64,

@@ -76,6 +76,12 @@ fn motion_f64(traj: &Trajectory) -> [f64; 4] {
 }
 
 impl Body {
+    /// The end `τ` of the bridge the body is on, if any: at `τ` its
+    /// velocity changes to the one the bridge leads to (module docs).
+    pub(crate) fn bridge_end(&self) -> Option<&Time> {
+        self.anchor.as_ref().map(|(t, _)| t)
+    }
+
     /// A body from its specification, its body frame's origin at
     /// `p.position` at time `t`; refuses a polygon or number that breaks
     /// the contract.
@@ -912,6 +918,15 @@ impl World {
         }
         let body_of = |on_b: bool| if on_b { bb } else { ba };
         let enc_of = |(on_b, i): (bool, usize)| if on_b { eb[i] } else { ea[i] };
+        // (a feature's vertex lies exactly on the line of the feature's
+        // edge at `t`: `contact` compared them exactly, so that turn is
+        // zero and needs no second exact evaluation)
+        let on_line = |on_b: bool, i: usize, p: (bool, usize)| {
+            c.features.iter().any(|&(source, other)| match source {
+                Ok(j) => on_b && j == i && p == (false, other),
+                Err(j) => !on_b && j == i && p == (true, other),
+            })
+        };
         let inside = |on_b: bool, p: (bool, usize)| {
             let (body, e) = (body_of(on_b), if on_b { &eb } else { &ea });
             let n = e.len();
@@ -919,6 +934,7 @@ impl World {
             (0..n).all(
                 |i| match crate::geom::orient_enclosed(e[i], e[(i + 1) % n], ep) {
                     Some(s) => s == Sign::Positive,
+                    None if on_line(on_b, i, p) => true,
                     None => {
                         let q = body_of(p.0).vertex(p.1);
                         crate::motion::orient_poly(&body.vertex(i), &body.vertex((i + 1) % n), &q)

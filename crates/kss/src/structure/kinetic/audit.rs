@@ -8,14 +8,16 @@ use crate::num::{Rational, Sign, Time};
 use crate::structure::geo::Geo;
 use crate::structure::StructureError;
 
-use super::book::{cert_poly, resting_flat};
+use super::book::{bridge_end, cert_poly, resting_flat};
 use super::Kinetic;
 
 impl Kinetic {
     /// Check every invariant at the rational instant `at`, strictly after the
     /// last event `now` and before the next one: topology, every corridor face
     /// a pseudo-triangle, every certificate holding, and the scheduled set
-    /// equal to a from-scratch recomputation with the right failure times.
+    /// equal to a from-scratch recomputation with the right failure times
+    /// (a certificate out of the queue until a bridge ends: no failure up
+    /// to that end).
     pub fn audit(&self, world: &Geo, now: &Time, at: &Rational) -> Result<(), StructureError> {
         let at_t = Time::from_rational(at.clone());
         self.kss.check_topology(world)?;
@@ -33,7 +35,7 @@ impl Kinetic {
                 want.difference(&have).take(3).collect::<Vec<_>>(),
             )));
         }
-        let mut scheduled = 0;
+        let (mut scheduled, mut idle) = (0, 0);
         for c in &fresh {
             if let Some(&a) = c.p.iter().find(|&&a| !world.enclosure_cache_agrees(a)) {
                 return Err(StructureError::Invariant(format!(
@@ -68,13 +70,31 @@ impl Kinetic {
                 .key
                 .and_then(|k| self.queue.get(k))
                 .map(|(t, _)| t.clone());
-            if want != got {
+            if s.idle {
+                // out of the queue until a bridge of one of its bodies ends,
+                // where it is scheduled again: no failure up to that end
+                let end = bridge_end(world, &c.p);
+                let holds = end.is_some_and(|e| want.as_ref().is_none_or(|w| w > e));
+                if s.key.is_some() || !holds {
+                    return Err(StructureError::Invariant(format!(
+                        "certificate {:?} idle until a bridge ends at {end:?}, fails at {want:?}",
+                        c.p
+                    )));
+                }
+                idle += 1;
+            } else if want != got {
                 return Err(StructureError::Invariant(format!(
                     "certificate {:?} scheduled at {got:?}, fails at {want:?}",
                     c.p
                 )));
             }
             scheduled += usize::from(got.is_some());
+        }
+        if idle != self.idle {
+            return Err(StructureError::Invariant(format!(
+                "{} certificates counted idle, {idle} marked",
+                self.idle
+            )));
         }
         if scheduled != self.queue.len() {
             return Err(StructureError::Invariant(format!(

@@ -263,6 +263,17 @@ pub(super) fn tie(world: &Geo, p: &[Att; 3]) -> u64 {
     u64::from(!possible_contact)
 }
 
+/// The earliest end of a bridge among the bodies of the points `p`
+/// ([`crate::world::Body::bridge_end`]), if one of them is on a bridge.
+pub(super) fn bridge_end<'a>(world: &'a Geo, p: &[Att; 3]) -> Option<&'a Time> {
+    p.iter()
+        .filter_map(|a| match a.obj {
+            Obj::Body(b) => world.body(b).bridge_end(),
+            Obj::Omega => None,
+        })
+        .min()
+}
+
 impl Kinetic {
     pub(super) fn schedule_everything(
         &mut self,
@@ -379,7 +390,7 @@ impl Kinetic {
             Owner::Tri(t) => self.owned_tri[t.0 as usize] = mine,
             Owner::Corr(k) => self.owned_corr[k.0 as usize] = mine,
         }
-        self.max_active = self.max_active.max(self.queue.len());
+        self.max_active = self.max_active.max(self.active_now());
         Ok(())
     }
 
@@ -413,6 +424,7 @@ impl Kinetic {
                 owners: vec![o],
                 fp,
                 popped: None,
+                idle: false,
             },
         );
     }
@@ -437,6 +449,9 @@ impl Kinetic {
 
     pub(super) fn drop_cert(&mut self, p: &[Att; 3]) {
         if let Some(s) = self.certs.remove(p) {
+            if s.idle {
+                self.idle -= 1;
+            }
             for b in bodies_of(p) {
                 if let Some(set) = self.by_body.get_mut(&b) {
                     set.remove(p);
@@ -448,11 +463,50 @@ impl Kinetic {
         }
     }
 
+    /// Whether the certificate on `p` holds from `now` to the earliest end
+    /// of a bridge among its bodies ([`crate::world::Body::bridge_end`]),
+    /// as the f64 filter proves it: its function is positive on the
+    /// whole span. At that bridge's end the body's motion changes and
+    /// every certificate on it is scheduled again, so until then it needs
+    /// no failure time.
+    pub(super) fn holds_until_bridge_end(&self, world: &Geo, p: &[Att; 3], now: &Time) -> bool {
+        let Some(s) = self.certs.get(p) else {
+            return false;
+        };
+        let Some(end) = bridge_end(world, p) else {
+            return false;
+        };
+        let Some([c0, c1, c2]) = cert_enclosure(world, &s.cert) else {
+            return false;
+        };
+        let span = now.interval().hull(&end.interval());
+        (c0 + span * (c1 + span * c2)).sign() == Some(Sign::Positive)
+    }
+
+    /// Take the certificate on `p` out of the queue until the end of a
+    /// bridge of one of its bodies ([`Kinetic::holds_until_bridge_end`]).
+    pub(super) fn idle_until_bridge_end(&mut self, p: &[Att; 3]) {
+        if let Some(s) = self.certs.get_mut(p) {
+            if let Some(k) = s.key.take() {
+                self.queue.cancel(k);
+            }
+            (s.fp, s.popped) = (None, None);
+            if !s.idle {
+                s.idle = true;
+                self.idle += 1;
+            }
+        }
+    }
+
     pub(super) fn reschedule(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
         let Some(s) = self.certs.get_mut(p) else {
             return;
         };
         let (c, old) = (s.cert, s.key.take());
+        if s.idle {
+            s.idle = false;
+            self.idle -= 1;
+        }
         if let Some(k) = old {
             self.queue.cancel(k);
         }
@@ -460,7 +514,7 @@ impl Kinetic {
         if let Some(s) = self.certs.get_mut(p) {
             (s.key, s.fp, s.popped) = (key, fp, None);
         }
-        self.max_active = self.max_active.max(self.queue.len());
+        self.max_active = self.max_active.max(self.active_now());
     }
 
     /// The certificates on body `b` that name one of `ids`.

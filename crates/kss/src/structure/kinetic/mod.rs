@@ -68,6 +68,9 @@ struct Scheduled {
     /// The failure time it was popped (or taken out of the queue) at, while
     /// it waits to be handled or handled again (`None` while queued).
     popped: Option<Box<Time>>,
+    /// Out of the queue until the end of a bridge of one of its bodies
+    /// ([`Kinetic::idle_until_bridge_end`]).
+    idle: bool,
 }
 
 /// The failure time a certificate is due at: its queued time, or the one it
@@ -111,6 +114,9 @@ pub struct Kinetic {
     owned_tri: Vec<Vec<[Att; 3]>>,
     owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,
+    /// Certificates out of the queue until a bridge ends (`Scheduled::idle`):
+    /// counted as scheduled.
+    idle: usize,
     max_active: usize,
     /// What the engine holds about the current instant.
     instant: InstantState,
@@ -230,9 +236,15 @@ impl Kinetic {
         }
     }
 
-    /// Certificates that can fail (scheduled) now, and at most so far.
+    /// Certificates that can fail (scheduled, or to be scheduled when a
+    /// bridge ends) now, and at most so far.
     pub fn active(&self) -> (usize, usize) {
-        (self.queue.len(), self.max_active)
+        (self.active_now(), self.max_active)
+    }
+
+    /// Certificates in the queue or out of it until a bridge ends.
+    fn active_now(&self) -> usize {
+        self.queue.len() + self.idle
     }
 
     /// All certificates, scheduled or not.

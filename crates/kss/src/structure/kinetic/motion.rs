@@ -49,6 +49,12 @@ impl Kinetic {
         touched.sort();
         touched.dedup();
         for p in &touched {
+            // (a certificate that holds until a bridge of one of its bodies
+            // ends is scheduled then, when that body's motion changes again)
+            if !waiting.contains(p) && self.holds_until_bridge_end(world, p, now) {
+                self.idle_until_bridge_end(p);
+                continue;
+            }
             self.reschedule(world, p, now);
         }
         // A corridor with a junction straight at `now` was shaped by its
