@@ -10,10 +10,14 @@
 //! number reading back to the identical double; [`json_f64`] and
 //! [`json_str`] format a number and a string as the contract prints them.
 //!
-//! Reading goes through [`serde_json::Value`] (parsed with correct rounding:
-//! the crate enables serde_json's `float_roundtrip`) and then walks the
-//! tree by hand, so that every error names the entry it is about
-//! (`polygons[2] (id "b")`, `flight_plan_changes[0]`, ...). Only the syntax and
+//! Reading takes a well-formed file straight into typed records (numbers
+//! parsed with correct rounding: the crate enables serde_json's
+//! `float_roundtrip`). Any file that this direct reading does not take
+//! goes through [`serde_json::Value`], whose tree is walked by hand, so
+//! that every error names the entry it is about (`polygons[2] (id "b")`,
+//! `flight_plan_changes[0]`, ...); the direct reading takes a file only
+//! where the walk reads the same scenario from it (a unit test compares
+//! the two on edited files). Only the syntax and
 //! the types are checked here; the semantic rules (convexity, disjointness,
 //! unique ids, change times, ...) are checked by [`Scenario::validate`],
 //! and by [`crate::run`] before it simulates.
@@ -162,6 +166,12 @@ fn syntax_error(e: serde_json::Error) -> ScenarioJsonError {
 /// assert_eq!(sc.polygons[0].velocity, [0.0, 0.0]);
 /// ```
 pub fn parse_scenario(text: &str) -> Result<Scenario, ScenarioJsonError> {
+    if let Some(s) = serde_json::from_str::<direct::File>(text)
+        .ok()
+        .and_then(direct::File::scenario)
+    {
+        return Ok(s);
+    }
     let root: Value = serde_json::from_str(text).map_err(syntax_error)?;
     scenario_from_value(&root)
 }
@@ -605,4 +615,278 @@ pub fn json_f64(x: f64) -> String {
 /// A string as a JSON string literal (quoted and escaped).
 pub fn json_str(s: &str) -> String {
     serde_json::to_string(s).expect("a string serializes")
+}
+
+/// The common case of [`parse_scenario`]: a well-formed file read straight
+/// into typed records, without a tree of values. It takes a file only where
+/// the tree walk would read the same scenario from it: every entry must be
+/// a JSON object (no array in its place), every field present must have its
+/// type (`null` for an optional one included in what is refused), a field
+/// may not repeat and a key may not contain an escape. Anything else goes
+/// to the walk, which reads the file again and says what is wrong. Both
+/// read numbers with the same parser (correctly rounded); unknown fields
+/// are skipped by both.
+mod direct {
+    use serde::de::{Error, IgnoredAny, MapAccess, Visitor};
+    use serde::{Deserialize, Deserializer};
+
+    use crate::scenario::{
+        CollisionMode, FlightPlanChange, Insertion, PolygonSpec, Removal, Scenario,
+    };
+
+    /// A record read from a JSON object only, each field optional here
+    /// (required ones are checked when the scenario is assembled).
+    macro_rules! object {
+        ($(#[$doc:meta])* $name:ident { $($field:ident: $ty:ty),* $(,)? }) => {
+            $(#[$doc])*
+            #[derive(Default)]
+            pub(super) struct $name {
+                $($field: Option<$ty>),*
+            }
+
+            impl<'de> Deserialize<'de> for $name {
+                fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                    struct Fields;
+                    impl<'de> Visitor<'de> for Fields {
+                        type Value = $name;
+                        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                            f.write_str("an object")
+                        }
+                        fn visit_map<A: MapAccess<'de>>(self, mut m: A) -> Result<$name, A::Error> {
+                            let mut out = $name::default();
+                            while let Some(key) = m.next_key::<&'de str>()? {
+                                match key {
+                                    $(stringify!($field) => {
+                                        if out.$field.is_some() {
+                                            return Err(A::Error::custom("repeated field"));
+                                        }
+                                        out.$field = Some(m.next_value()?);
+                                    })*
+                                    _ => {
+                                        m.next_value::<IgnoredAny>()?;
+                                    }
+                                }
+                            }
+                            Ok(out)
+                        }
+                    }
+                    d.deserialize_map(Fields)
+                }
+            }
+        };
+    }
+
+    object!(
+        /// The whole file.
+        File {
+            version: f64,
+            until: f64,
+            on_collision: String,
+            polygons: Vec<Polygon>,
+            flight_plan_changes: Vec<Change>,
+            insertions: Vec<Entering>,
+            removals: Vec<Leaving>,
+        }
+    );
+    object!(Polygon {
+        id: String,
+        vertices: Vec<[f64; 2]>,
+        position: [f64; 2],
+        velocity: [f64; 2],
+        fixed: bool,
+    });
+    object!(Change {
+        time: f64,
+        id: String,
+        velocity: [f64; 2],
+    });
+    object!(Entering {
+        time: f64,
+        polygon: Polygon,
+    });
+    object!(Leaving {
+        time: f64,
+        id: String
+    });
+
+    impl Polygon {
+        fn spec(self) -> Option<PolygonSpec> {
+            Some(PolygonSpec {
+                id: self.id?,
+                vertices: self.vertices?,
+                position: self.position?,
+                velocity: self.velocity.unwrap_or([0.0, 0.0]),
+                fixed: self.fixed.unwrap_or(false),
+            })
+        }
+    }
+
+    impl File {
+        /// The scenario, unless a required field is missing or the version
+        /// or the mode is one the walk refuses.
+        pub(super) fn scenario(self) -> Option<Scenario> {
+            if self.version? != 1.0 {
+                return None;
+            }
+            let on_collision = match self.on_collision.as_deref() {
+                None | Some("stop") => CollisionMode::Stop,
+                Some("remove") => CollisionMode::Remove,
+                Some("bounce") => CollisionMode::Bounce,
+                Some(_) => return None,
+            };
+            Some(Scenario {
+                until: self.until?,
+                on_collision,
+                polygons: self
+                    .polygons?
+                    .into_iter()
+                    .map(Polygon::spec)
+                    .collect::<Option<_>>()?,
+                flight_plan_changes: self
+                    .flight_plan_changes
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(|c: Change| {
+                        Some(FlightPlanChange {
+                            time: c.time?,
+                            id: c.id?,
+                            velocity: c.velocity?,
+                        })
+                    })
+                    .collect::<Option<_>>()?,
+                insertions: self
+                    .insertions
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(|e: Entering| {
+                        Some(Insertion {
+                            time: e.time?,
+                            polygon: e.polygon?.spec()?,
+                        })
+                    })
+                    .collect::<Option<_>>()?,
+                removals: self
+                    .removals
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(|r: Leaving| {
+                        Some(Removal {
+                            time: r.time?,
+                            id: r.id?,
+                        })
+                    })
+                    .collect::<Option<_>>()?,
+            })
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tree walk alone (what [`parse_scenario`] falls back to).
+    fn walk(text: &str) -> Result<Scenario, ScenarioJsonError> {
+        let root: Value = serde_json::from_str(text).map_err(syntax_error)?;
+        scenario_from_value(&root)
+    }
+
+    /// Whatever the direct reading takes, the walk reads the same.
+    fn agree(text: &str) -> bool {
+        let direct = serde_json::from_str::<direct::File>(text)
+            .ok()
+            .and_then(direct::File::scenario);
+        if let Some(s) = &direct {
+            assert_eq!(walk(text).as_ref(), Ok(s), "{text}");
+        }
+        assert_eq!(parse_scenario(text), walk(text), "{text}");
+        direct.is_some()
+    }
+
+    const BASE: &str = r#"{"version": 1, "until": 4.5, "on_collision": "bounce",
+        "polygons": [
+          {"id": "a", "vertices": [[0,0],[1,0],[0,1]], "position": [0.1, -0], "velocity": [1, 0]},
+          {"id": "b", "vertices": [[0,0],[1,0],[0,1]], "position": [3, 0], "fixed": true, "note": [1]}],
+        "flight_plan_changes": [{"time": 1, "id": "a", "velocity": [0.5, 0]}],
+        "insertions": [{"time": 2, "polygon": {"id": "c", "vertices": [[0,0],[1,0],[0,1]],
+                        "position": [9, 9]}}],
+        "removals": [{"time": 3, "id": "b"}]}"#;
+
+    #[test]
+    fn the_direct_reading_takes_only_what_the_walk_reads_alike() {
+        assert!(agree(BASE));
+        // each of these changes the base; the two readings must agree on
+        // every result (the direct one may refuse more)
+        let edits: &[(&str, &str)] = &[
+            (r#""version": 1"#, r#""version": 1.0"#),
+            (r#""version": 1"#, r#""version": 1e0"#),
+            (r#""version": 1"#, r#""version": 2"#),
+            (r#""version": 1"#, r#""version": "1""#),
+            (r#""version": 1, "#, ""),
+            (r#""until": 4.5"#, r#""until": null"#),
+            (r#""until": 4.5"#, r#""until": 18446744073709551617"#),
+            (r#""until": 4.5"#, r#""until": 1e400"#),
+            (r#""until": 4.5"#, r#""until": -0"#),
+            (r#""on_collision": "bounce""#, r#""on_collision": null"#),
+            (
+                r#""on_collision": "bounce""#,
+                r#""on_collision": "bounces""#,
+            ),
+            (r#""on_collision": "bounce""#, r#""on_collision": "remove""#),
+            (r#""on_collision": "bounce","#, ""),
+            (r#""position": [0.1, -0]"#, r#""position": [0.1]"#),
+            (r#""position": [0.1, -0]"#, r#""position": [0.1, -0, 1]"#),
+            (
+                r#""position": [0.1, -0]"#,
+                r#""position": {"x": 0.1, "y": 0}"#,
+            ),
+            (r#""velocity": [1, 0]"#, r#""velocity": null"#),
+            (r#""velocity": [1, 0]"#, r#""velocity": [1, "0"]"#),
+            (r#", "velocity": [1, 0]"#, ""),
+            (r#""fixed": true"#, r#""fixed": null"#),
+            (r#""fixed": true"#, r#""fixed": 1"#),
+            (r#""fixed": true"#, r#""fixed": true, "fixed": false"#),
+            (r#""id": "a""#, r#""id": "a", "id": "z""#),
+            (r#""id": "a""#, r#""i\u0064": "a""#),
+            (r#""id": "a""#, r#""id": "\u0061""#),
+            (r#""id": "a""#, r#""id": 7"#),
+            (
+                r#"{"id": "a", "vertices": [[0,0],[1,0],[0,1]], "position": [0.1, -0], "velocity": [1, 0]}"#,
+                r#"["a", [[0,0],[1,0],[0,1]], [0.1, 0], [1, 0]]"#,
+            ),
+            (r#"{"time": 3, "id": "b"}"#, r#"[3, "b"]"#),
+            (
+                r#"{"time": 1, "id": "a", "velocity": [0.5, 0]}"#,
+                r#"[1, "a", [0.5, 0]]"#,
+            ),
+            (
+                r#""flight_plan_changes": ["#,
+                r#""flight_plan_changes": null, "x": ["#,
+            ),
+            (
+                r#""removals": [{"time": 3, "id": "b"}]"#,
+                r#""removals": {}"#,
+            ),
+            (
+                r#""removals": [{"time": 3, "id": "b"}]"#,
+                r#""removals": []"#,
+            ),
+            (r#""polygon": {"#, r#""polygon": null, "p": {"#),
+            (
+                r#""id": "c", "vertices": [[0,0],[1,0],[0,1]],"#,
+                r#""id": "c","#,
+            ),
+            (r#""polygons": ["#, r#""polygons": [], "polygons": ["#),
+        ];
+        let mut direct = 0;
+        for (from, to) in edits {
+            assert!(BASE.contains(from), "{from}");
+            direct += usize::from(agree(&BASE.replacen(from, to, 1)));
+        }
+        // (the well-formed variants go the direct way)
+        assert!(direct >= 8, "{direct}");
+        assert!(!agree("[]"));
+        assert!(!agree("null"));
+        assert!(!agree(r#"{"version": 1}"#));
+    }
 }
