@@ -993,6 +993,10 @@ fn impulse(
         && normal(len)
         && len > 0.0
         && normal(u)
+        // (the impulse itself: below the normal doubles for a tiny mass, it
+        // would leave the velocities as they were)
+        && normal(j)
+        && (j != 0.0 || u == 0.0)
         && [new_a, new_b].iter().flatten().all(|&x| normal(x));
     if ordinary {
         return (new_a, new_b);
@@ -1327,5 +1331,36 @@ mod tests {
         let d = unit_direction(&huge);
         assert_eq!(d[0], -d[1]);
         assert!((d[0] - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-15);
+    }
+
+    /// A polygon of area 1e-278 (an ordinary double, whose inverse mass is
+    /// 1e278) bounces off a fixed one at 1e-218: the textbook impulse
+    /// `-2u / (1/m)` is far below the doubles' range, and the velocity
+    /// still reverses (the fuzzer's scene at t = 8e251, where every
+    /// structure and the reference reported the same contact again and
+    /// again with the velocity unchanged).
+    #[test]
+    fn a_polygon_of_area_1e_minus_278_bounces_off_a_fixed_one() {
+        let mut fixed = square("a", 1.0, -2.0, 0.0);
+        fixed.fixed = true;
+        let s = Scenario {
+            until: 1.0,
+            on_collision: CollisionMode::Bounce,
+            polygons: vec![fixed, square("b", 1e-139, 1.0, 0.0)],
+            ..Default::default()
+        };
+        let w = bodies(&s);
+        assert!(w.body(BodyId(1)).area < 1e-277);
+        let n = Point::from_f64([1.0, 0.0]).expect("finite");
+        let (a, b) = impulse(
+            w.body(BodyId(0)),
+            w.body(BodyId(1)),
+            &n,
+            [0.0, 0.0],
+            [-3e-218, 1e-218],
+            1.0,
+        );
+        assert_eq!(a, [0.0, 0.0]);
+        assert_eq!(b, [3e-218, 1e-218]);
     }
 }

@@ -286,9 +286,10 @@ fn check(text: &str) -> Result<&'static str, String> {
 }
 
 /// Seeds whose texts are known failures, kept in `testdata/known-failures/`
-/// (those that fail, as ignored tests below; the slow one); the sweep
-/// skips them and says so.
-const KNOWN_FAILURES: &[u64] = &[111936, 310360, 406620];
+/// (a slow one); the sweep skips them and says so. The finds that the
+/// structures have since followed are regression scenes
+/// (`testdata/regressions/extreme_*`).
+const KNOWN_FAILURES: &[u64] = &[111936];
 
 #[test]
 fn scenario_texts_across_the_range_of_doubles() {
@@ -366,30 +367,4 @@ fn scenario_texts_across_the_range_of_doubles() {
         counts.get("valid, collisions").copied().unwrap_or(0) > 0 || done < 50,
         "the generator makes scenes with collisions: {counts:?}"
     );
-}
-
-/// A fuzzer find (seed 310360) that still fails: see
-/// `testdata/known-failures/README.md` (brute alone takes minutes on it).
-#[test]
-#[ignore = "known failure: every structure stops with 'no progress' after repeated bounces at t = 8e251; brute takes minutes"]
-fn structures_after_bounces_at_8e251() {
-    known_failure("structures_no_progress_after_bounces_at_8e251.json");
-}
-
-/// A fuzzer find (seed 406620, not minimized) that still fails: see
-/// `testdata/known-failures/README.md` (brute alone takes minutes on it).
-#[test]
-#[ignore = "known failure: every structure stops with 'no progress' after repeated bounces at t = 8e241; brute takes minutes"]
-fn structures_after_bounces_at_8e241() {
-    known_failure("structures_no_progress_after_bounces_at_8e241.json");
-}
-
-/// Run the checks on `testdata/known-failures/NAME`, which should be a
-/// valid scene with collisions that every structure follows.
-fn known_failure(name: &str) {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../testdata/known-failures")
-        .join(name);
-    let text = std::fs::read_to_string(&path).expect("the known failure's file");
-    assert_eq!(check(&text), Ok("valid, collisions"), "{name}");
 }

@@ -33,7 +33,9 @@
 //! moving at 2.6e304: the `extreme_*` files), among them pops of the
 //! hierarchy beside polygons moving at 1e169 to 7e306 whose repair must not
 //! cut a polygon off the hull at a lone hull vertex or leave an empty
-//! corridor's bridge entering a polygon (`extreme_hierarchy_*`).
+//! corridor's bridge entering a polygon (`extreme_hierarchy_*`), and
+//! bounces of a polygon of area below 1e-200 off a fixed one, whose
+//! impulse is below the doubles' range (`extreme_bounce_of_a_*`).
 //! Each gives exactly brute's collisions (exact times, pairs, order,
 //! repeats and contact points) with `plain` and `hierarchical`, with the
 //! audit after every event, the hierarchy both approximating every polygon
