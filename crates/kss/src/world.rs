@@ -963,14 +963,15 @@ impl World {
 /// contact normal `n` (from `a` to `b`), in doubles, from their velocities
 /// `va`, `vb` before (the pair approaches along `n`).
 ///
-/// The masses are the areas. Where the areas, the normal and the
-/// velocities are ordinary doubles this is the textbook formula. Where one
-/// of them is not (an area beyond the doubles' range or below their
+/// The masses are the areas. Where the areas, the normal, the velocities
+/// and the impulse are ordinary doubles this is the textbook formula. Where
+/// one of them is not (an area beyond the doubles' range or below their
 /// smallest normal value, a normal whose length overflows, velocities near
-/// `f64::MAX`), the same impulse is computed from the exact ratio of the
-/// areas, the normal's direction from the exact ratio of its coordinates,
-/// and the velocities scaled by a power of two; a result beyond the
-/// doubles' range saturates at `±f64::MAX`.
+/// `f64::MAX`, an impulse below the normal doubles, as for a polygon of
+/// area 1e-278 whose inverse mass is 1e278), the same impulse is computed
+/// from the exact ratio of the areas, the normal's direction from the
+/// exact ratio of its coordinates, and the velocities scaled by a power of
+/// two; a result beyond the doubles' range saturates at `±f64::MAX`.
 fn impulse(
     ba: &Body,
     bb: &Body,
