@@ -18,7 +18,7 @@ use crate::structure::StructureError;
 use crate::structure::{Att, CorrId, Obj, TriId};
 use crate::world::BodyId;
 
-use super::step::bodies_of;
+use super::step::each_body;
 use super::{due_time, fingerprint, Fingerprint, Kinetic, Scheduled};
 
 /// The certificate function of `c`, oriented so that it is positive while
@@ -413,7 +413,7 @@ impl Kinetic {
     /// Schedule certificate `c`, not yet known, for owner `o`.
     pub(super) fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) {
         let (key, fp) = self.enqueue(world, &c, now);
-        for b in bodies_of(&c.p) {
+        for b in each_body(&c.p) {
             self.by_body.entry(b).or_default().insert(c.p);
         }
         self.certs.insert(
@@ -452,7 +452,7 @@ impl Kinetic {
             if s.idle {
                 self.idle -= 1;
             }
-            for b in bodies_of(p) {
+            for b in each_body(p) {
                 if let Some(set) = self.by_body.get_mut(&b) {
                     set.remove(p);
                 }

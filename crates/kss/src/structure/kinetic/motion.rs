@@ -48,11 +48,18 @@ impl Kinetic {
         touched.extend(waiting.iter().copied());
         touched.sort();
         touched.dedup();
-        for p in &touched {
-            // (a certificate that holds until a bridge of one of its bodies
-            // ends is scheduled then, when that body's motion changes again)
+        // (a certificate that holds until a bridge of one of its bodies
+        // ends is scheduled then, when that body's motion changes again;
+        // `turning[i]`: the filter proved `touched[i]` a turn certificate
+        // positive from now, so its turn is not zero at now)
+        let mut turning = vec![false; touched.len()];
+        for (p, turning) in touched.iter().zip(&mut turning) {
             if !waiting.contains(p) && self.holds_until_bridge_end(world, p, now) {
                 self.idle_until_bridge_end(p);
+                *turning = self
+                    .certs
+                    .get(p)
+                    .is_some_and(|s| s.cert.kind != crate::structure::certs::CertKind::Order);
                 continue;
             }
             self.reschedule(world, p, now);
@@ -69,8 +76,10 @@ impl Kinetic {
         // dropped meanwhile may no longer be vertices)
         let undecided: Vec<bool> = touched
             .iter()
-            .map(|p| {
-                self.certs.contains_key(p)
+            .zip(&turning)
+            .map(|(p, &turning)| {
+                !turning
+                    && self.certs.contains_key(p)
                     && world
                         .orient_filtered(p[0], p[1], p[2], now.interval())
                         .is_none()
@@ -96,8 +105,8 @@ impl Kinetic {
             // that out wherever it decides a sign
             let lp = |a: Att| world.point(a);
             let zero = undecided && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
-            let owners: Vec<Owner> = s.owners.clone();
             if s.cert.kind == crate::structure::certs::CertKind::Order {
+                let owners: Vec<Owner> = s.owners.clone();
                 // an order certificate whose three points leave their common
                 // line is a turn again (unless it fails now: two of its points
                 // meet, an event of this instant that recomputes its owners'
@@ -132,6 +141,7 @@ impl Kinetic {
                 // is now zero for ever) is no longer a failure: its owners get
                 // their certificates anew (an order certificate for that
                 // triple)
+                let owners: Vec<Owner> = s.owners.clone();
                 self.instant.handling = Some(p);
                 for o in owners {
                     if matches!(o, Owner::Corr(_)) {

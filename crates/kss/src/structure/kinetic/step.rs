@@ -35,6 +35,22 @@ pub(super) fn bodies_of(p: &[Att; 3]) -> Vec<BodyId> {
     v
 }
 
+/// The distinct bodies of the points `p`, in increasing order, without
+/// allocating ([`bodies_of`] as an iterator).
+pub(super) fn each_body(p: &[Att; 3]) -> impl Iterator<Item = BodyId> {
+    let mut v = p.map(|a| match a.obj {
+        Obj::Body(b) => Some(b),
+        Obj::Omega => None,
+    });
+    v.sort();
+    let mut last = None;
+    v.into_iter().flatten().filter(move |&b| {
+        let new = last != Some(b);
+        last = Some(b);
+        new
+    })
+}
+
 /// The pairs in contact at `t` for a contact failure of triple `p` between
 /// `a` and `b`: that pair, and any other pair among the triple's bodies and
 /// the bodies at the corners of the partition triangles that end the
