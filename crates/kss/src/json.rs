@@ -203,12 +203,9 @@ pub fn scenario_from_value(root: &Value) -> Result<Scenario, ScenarioJsonError> 
     let until = number(obj, top, "until")?;
     let on_collision = match obj.get("on_collision") {
         None => CollisionMode::Stop,
-        Some(Value::String(s)) => match s.as_str() {
-            "stop" => CollisionMode::Stop,
-            "remove" => CollisionMode::Remove,
-            "bounce" => CollisionMode::Bounce,
-            _ => return Err(ScenarioJsonError::UnknownMode { value: s.clone() }),
-        },
+        Some(Value::String(s)) => {
+            collision_mode(s).ok_or_else(|| ScenarioJsonError::UnknownMode { value: s.clone() })?
+        }
         Some(other) => {
             return Err(wrong(top, "on_collision", "a string", other));
         }
@@ -252,6 +249,16 @@ pub fn scenario_from_value(root: &Value) -> Result<Scenario, ScenarioJsonError> 
         insertions,
         removals,
     })
+}
+
+/// The mode named `s` in `on_collision`, if it is one.
+fn collision_mode(s: &str) -> Option<CollisionMode> {
+    match s {
+        "stop" => Some(CollisionMode::Stop),
+        "remove" => Some(CollisionMode::Remove),
+        "bounce" => Some(CollisionMode::Bounce),
+        _ => None,
+    }
 }
 
 /// The optional array `field` of the top-level object, each entry read by
@@ -721,6 +728,12 @@ mod direct {
         }
     }
 
+    /// Every record of an optional array (absent: none) made into its
+    /// entry, unless one lacks a required field.
+    fn each<T, U>(v: Option<Vec<T>>, entry: impl Fn(T) -> Option<U>) -> Option<Vec<U>> {
+        v.unwrap_or_default().into_iter().map(entry).collect()
+    }
+
     impl File {
         /// The scenario, unless a required field is missing or the version
         /// or the mode is one the walk refuses.
@@ -729,10 +742,8 @@ mod direct {
                 return None;
             }
             let on_collision = match self.on_collision.as_deref() {
-                None | Some("stop") => CollisionMode::Stop,
-                Some("remove") => CollisionMode::Remove,
-                Some("bounce") => CollisionMode::Bounce,
-                Some(_) => return None,
+                None => CollisionMode::Stop,
+                Some(s) => super::collision_mode(s)?,
             };
             Some(Scenario {
                 until: self.until?,
@@ -742,40 +753,25 @@ mod direct {
                     .into_iter()
                     .map(Polygon::spec)
                     .collect::<Option<_>>()?,
-                flight_plan_changes: self
-                    .flight_plan_changes
-                    .unwrap_or_default()
-                    .into_iter()
-                    .map(|c: Change| {
-                        Some(FlightPlanChange {
-                            time: c.time?,
-                            id: c.id?,
-                            velocity: c.velocity?,
-                        })
+                flight_plan_changes: each(self.flight_plan_changes, |c: Change| {
+                    Some(FlightPlanChange {
+                        time: c.time?,
+                        id: c.id?,
+                        velocity: c.velocity?,
                     })
-                    .collect::<Option<_>>()?,
-                insertions: self
-                    .insertions
-                    .unwrap_or_default()
-                    .into_iter()
-                    .map(|e: Entering| {
-                        Some(Insertion {
-                            time: e.time?,
-                            polygon: e.polygon?.spec()?,
-                        })
+                })?,
+                insertions: each(self.insertions, |e: Entering| {
+                    Some(Insertion {
+                        time: e.time?,
+                        polygon: e.polygon?.spec()?,
                     })
-                    .collect::<Option<_>>()?,
-                removals: self
-                    .removals
-                    .unwrap_or_default()
-                    .into_iter()
-                    .map(|r: Leaving| {
-                        Some(Removal {
-                            time: r.time?,
-                            id: r.id?,
-                        })
+                })?,
+                removals: each(self.removals, |r: Leaving| {
+                    Some(Removal {
+                        time: r.time?,
+                        id: r.id?,
                     })
-                    .collect::<Option<_>>()?,
+                })?,
             })
         }
     }
