@@ -20,6 +20,11 @@ pub struct Trajectory {
 }
 
 impl Trajectory {
+    /// The piece at `origin` at time 0 that moves with `velocity`.
+    pub fn from_origin(origin: Point, velocity: Point) -> Trajectory {
+        Trajectory { origin, velocity }
+    }
+
     /// The piece that is at `position` at time `time` and moves with `velocity`.
     pub fn through(time: &Rational, position: &Point, velocity: Point) -> Trajectory {
         let t = time.neg();
@@ -295,6 +300,17 @@ impl LinearPoint {
             &self.w * t.denom(),
         );
         Point { x, y }
+    }
+
+    /// The position at time `t`, each coordinate rounded to the nearest
+    /// double ([`Point::to_f64`] of [`LinearPoint::at`], without its
+    /// reductions).
+    pub fn at_to_f64(&self, t: &Rational) -> [f64; 2] {
+        let den = &self.w * t.denom();
+        [
+            Rational::quotient_to_f64(&self.x0 * t.denom() + &self.x1 * t.numer(), den.clone()),
+            Rational::quotient_to_f64(&self.y0 * t.denom() + &self.y1 * t.numer(), den),
+        ]
     }
 
     /// Approximate position at time `t` (display only).

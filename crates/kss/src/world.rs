@@ -662,22 +662,42 @@ impl World {
     /// (module docs). `away` is the direction to round the anchor towards.
     fn set_velocity(&mut self, id: BodyId, t: &Rational, v: Point, away: Option<&[Rational; 2]>) {
         let body = &mut self.bodies[id.index()];
-        let p = body.traj.position_at(t);
         body.anchor = None;
-        if t.is_dyadic() && p.x.is_dyadic() && p.y.is_dyadic() {
-            body.set_traj(Trajectory::through(t, &p, v));
-            return;
+        if t.is_dyadic() {
+            let p = body.traj.position_at(t);
+            if p.x.is_dyadic() && p.y.is_dyadic() {
+                body.set_traj(Trajectory::through(t, &p, v));
+                return;
+            }
         }
-        let old_v = body.traj.velocity().clone();
+        // the position at `t`, origin + velocity · t, unreduced
+        let tf = Frac::of(t);
+        let (o, old_v) = (body.traj.origin(), body.traj.velocity().clone());
+        let p = [
+            Frac::of(&o.x).add(&Frac::of(&old_v.x).mul(&tf)),
+            Frac::of(&o.y).add(&Frac::of(&old_v.y).mul(&tf)),
+        ];
         let (tau, q) = bridge_anchor(t, &p, &v, &old_v, away);
         let dt = Time::from_rational(tau.clone());
-        // (q − p) / (τ − t), each coordinate reduced once
-        let span = Frac::of(&tau).sub(&Frac::of(t));
-        let mid = Point {
-            x: Frac::of(&q.x).sub(&Frac::of(&p.x)).div(&span).reduced(),
-            y: Frac::of(&q.y).sub(&Frac::of(&p.y)).div(&span).reduced(),
+        // the bridge from `p` at `t` to `q` at `τ`: velocity (q − p) / (τ − t)
+        // and origin (p·τ − q·t) / (τ − t), each coordinate reduced once
+        let bridge = match bridge_dyadic(t, o, &old_v, &tau, &q) {
+            Some(b) => b,
+            None => {
+                let tauf = Frac::of(&tau);
+                let span = tauf.sub(&tf);
+                let coord = |p: &Frac, q: &Rational| {
+                    let qf = Frac::of(q);
+                    let velocity = qf.sub(p).div(&span).reduced();
+                    let origin = p.mul(&tauf).sub(&qf.mul(&tf)).div(&span).reduced();
+                    (origin, velocity)
+                };
+                let (ox, vx) = coord(&p[0], &q.x);
+                let (oy, vy) = coord(&p[1], &q.y);
+                Trajectory::from_origin(Point { x: ox, y: oy }, Point { x: vx, y: vy })
+            }
         };
-        body.set_traj(Trajectory::through(t, &p, mid));
+        body.set_traj(bridge);
         let seq = self.seq;
         self.seq += 1;
         body.anchor = Some((dt.clone(), seq));
@@ -949,11 +969,11 @@ impl World {
         let on_both: Vec<[f64; 2]> = candidates
             .iter()
             .filter(|&&p| inside(!p.0, p))
-            .map(|&(on_b, i)| body_of(on_b).vertex(i).at(t).to_f64())
+            .map(|&(on_b, i)| body_of(on_b).vertex(i).at_to_f64(t))
             .collect();
         if on_both.is_empty() {
             let (on_b, i) = candidates[0];
-            return body_of(on_b).vertex(i).at(t).to_f64();
+            return body_of(on_b).vertex(i).at_to_f64(t);
         }
         centroid_f64(&on_both)
     }
@@ -1116,11 +1136,56 @@ fn pow2_floor(x: f64) -> i32 {
     x.log2().floor().clamp(-1100.0, 1100.0) as i32
 }
 
+/// The bridge from the position at `t` of the trajectory with origin `o`
+/// and velocity `v` to `q` at `τ`, where `o`, `v`, `q` and `τ` are dyadic
+/// (`None` otherwise: a body already on a bridge): with each of them
+/// written over one power of two, `o = O/2^k` and so on, and `t = n/d`,
+/// the velocity is `(Q·d − O·d − V·n) / S` and the origin
+/// `((O·d + V·n)·T − Q·n·2^k) / (2^k·S)`, where `S = T·d − n·2^k`: integers
+/// no longer than `t`'s, one reduction per coordinate.
+fn bridge_dyadic(
+    t: &Rational,
+    o: &Point,
+    v: &Point,
+    tau: &Rational,
+    q: &Point,
+) -> Option<Trajectory> {
+    use dashu_base::BitTest;
+    let all = [&o.x, &o.y, &v.x, &v.y, tau, &q.x, &q.y];
+    if !all.iter().all(|x| x.is_dyadic()) {
+        return None;
+    }
+    // the common exponent: the largest denominator's
+    let k = all
+        .iter()
+        .map(|x| x.denom().bit_len() - 1)
+        .max()
+        .expect("seven values");
+    let scaled = |x: &Rational| x.numer() << (k - (x.denom().bit_len() - 1));
+    let (n, d) = (t.numer(), t.denom());
+    let nk = n << k;
+    let big_t = scaled(tau);
+    let s = &big_t * d - &nk;
+    let coord = |o: &Rational, v: &Rational, q: &Rational| {
+        let (big_o, big_v, big_q) = (scaled(o), scaled(v), scaled(q));
+        let pd = &big_o * d + &big_v * n;
+        let velocity = Rational::new(&big_q * d - &pd, s.clone());
+        let origin = Rational::new(pd * &big_t - big_q * &nk, s.clone() << k);
+        (origin, velocity)
+    };
+    let (ox, vx) = coord(&o.x, &v.x, &q.x);
+    let (oy, vy) = coord(&o.y, &v.y, &q.y);
+    Some(Trajectory::from_origin(
+        Point { x: ox, y: oy },
+        Point { x: vx, y: vy },
+    ))
+}
+
 /// The bridge end: a dyadic time `τ > t` and a dyadic point `Q` near
 /// `p + v·(τ − t)` (module docs).
 fn bridge_anchor(
     t: &Rational,
-    p: &Point,
+    p: &[Frac; 2],
     v: &Point,
     old_v: &Point,
     away: Option<&[Rational; 2]>,
@@ -1144,7 +1209,7 @@ fn bridge_anchor(
     let r = pow2_floor(speed) - 30 + g;
     // the target p + v·(τ − t), unreduced
     let span = Frac::of(&tau).sub(&Frac::of(t));
-    let target = |p: &Rational, v: &Rational| Frac::of(p).add(&Frac::of(v).mul(&span));
+    let target = |p: &Frac, v: &Rational| p.add(&Frac::of(v).mul(&span));
     let round = |x: Frac, dir: Sign| -> Rational {
         // x / 2^r rounded in direction `dir`, times 2^r
         let (fl, exact) = x.floor_scaled(-i64::from(r));
@@ -1156,8 +1221,8 @@ fn bridge_anchor(
     };
     let dir = |i: usize| away.map_or(Sign::Zero, |a| a[i].sign());
     let q = Point {
-        x: round(target(&p.x, &v.x), dir(0)),
-        y: round(target(&p.y, &v.y), dir(1)),
+        x: round(target(&p[0], &v.x), dir(0)),
+        y: round(target(&p[1], &v.y), dir(1)),
     };
     (tau, q)
 }

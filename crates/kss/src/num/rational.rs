@@ -240,6 +240,19 @@ impl Rational {
         self.to_f64_slow()
     }
 
+    /// `num / den` (`den` not zero) rounded as [`Rational::to_f64`]
+    /// rounds it, without reducing the fraction first (the rounding reads
+    /// only the value): for values that are only displayed.
+    pub fn quotient_to_f64(num: Int, den: Int) -> f64 {
+        assert!(!den.is_zero(), "quotient with zero denominator");
+        let (num, den) = if den < Int::ZERO {
+            (-num, -den)
+        } else {
+            (num, den)
+        };
+        Rational { num, den }.to_f64()
+    }
+
     /// Correctly rounded (to nearest, ties to even) for results in the
     /// normal range: a quotient with at least 65 significant bits plus a
     /// sticky bit for the remainder, rounded once.
