@@ -127,8 +127,8 @@ fn fast_interval(world: &World, a: BodyId, b: BodyId) -> ContactInterval {
     }
     let sc = |r: &Rational| r.numer() * (&den / r.denom());
     let (mut dx, mut dy, mut wx, mut wy) = (sc(&d0.x), sc(&d0.y), sc(&w.x), sc(&w.y));
-    let (edges, exp) =
-        crate::geom::minkowski_edges_filtered(&world.body(a).shape, &world.body(b).shape);
+    let mink = world.minkowski(a, b);
+    let (edges, exp) = (&mink.0, mink.1);
     // n·d(t) <= h·2^exp  ⇔  n·(D0 + W t) <= h·den·2^exp (all scaled to integers)
     let rhs_scale = if exp >= 0 {
         &den << exp as usize

@@ -217,6 +217,35 @@ pub struct World {
     /// The latest contact computed ([`World::contact`]): a collision's
     /// point and its bounce response ask for the same one.
     last_contact: ContactMemo,
+    /// The Minkowski differences of recent pairs of large polygons
+    /// ([`World::minkowski`]).
+    minkowski: MinkowskiCache,
+}
+
+/// The edges of `M = B ⊕ (−A)` for a pair of body polygons, with their
+/// common exponent ([`crate::geom::minkowski_edges_filtered`]).
+pub(crate) type MinkowskiEdges = Arc<(Vec<crate::geom::FilteredEdge>, i64)>;
+
+/// The number of entries of a [`MinkowskiCache`].
+const MINKOWSKI_SLOTS: usize = 4;
+
+/// The Minkowski differences of recent pairs of polygons, direct-mapped
+/// and keyed by the two polygons themselves (each entry holds both, so
+/// neither address can be reused while it is kept; a clone starts
+/// empty). A body's polygon never changes in its own frame, so the
+/// difference of a pair is the same at every instant: the collision
+/// response asks for it several times (the contact, its point, the
+/// reference's rule for the touch and after the response).
+#[derive(Debug, Default)]
+struct MinkowskiCache(std::sync::Mutex<Vec<MinkowskiEntry>>);
+
+/// One entry of a [`MinkowskiCache`].
+type MinkowskiEntry = Option<(Arc<BodyPolygon>, Arc<BodyPolygon>, MinkowskiEdges)>;
+
+impl Clone for MinkowskiCache {
+    fn clone(&self) -> MinkowskiCache {
+        MinkowskiCache::default()
+    }
 }
 
 /// The key of a [`ContactMemo`]: the two bodies, their frames
@@ -415,6 +444,7 @@ impl World {
             bounce_instant: None,
             bounce_rounds: BTreeMap::new(),
             last_contact: ContactMemo::default(),
+            minkowski: MinkowskiCache::default(),
         };
         if let Some((a, b)) = world.first_overlap_at_zero() {
             return Err(ScenarioError::Overlap {
@@ -835,6 +865,38 @@ impl World {
         c
     }
 
+    /// The edges of `M = B ⊕ (−A)` for bodies `a` and `b`
+    /// ([`crate::geom::minkowski_edges_filtered`]), kept for recent pairs
+    /// of polygons with 64 vertices or more between them (below that,
+    /// computing them costs less than keeping them).
+    pub(crate) fn minkowski(&self, a: BodyId, b: BodyId) -> MinkowskiEdges {
+        let (sa, sb) = (&self.body(a).shape, &self.body(b).shape);
+        if sa.len() + sb.len() < 64 {
+            return Arc::new(crate::geom::minkowski_edges_filtered(sa, sb));
+        }
+        let h = (Arc::as_ptr(sa) as usize as u64)
+            .rotate_left(17)
+            .wrapping_add(Arc::as_ptr(sb) as usize as u64)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let slot = (h >> 60) as usize % MINKOWSKI_SLOTS;
+        let mut cache = self
+            .minkowski
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if cache.is_empty() {
+            cache.resize(MINKOWSKI_SLOTS, None);
+        }
+        if let Some((ka, kb, edges)) = &cache[slot] {
+            if Arc::ptr_eq(ka, sa) && Arc::ptr_eq(kb, sb) {
+                return edges.clone();
+            }
+        }
+        let edges = Arc::new(crate::geom::minkowski_edges_filtered(sa, sb));
+        cache[slot] = Some((sa.clone(), sb.clone(), edges.clone()));
+        edges
+    }
+
     fn contact_fresh(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
         let (ba, bb) = (self.body(a), self.body(b));
         // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A)
@@ -842,7 +904,8 @@ impl World {
         let mut active: Vec<(Int, Int)> = Vec::new();
         let mut features = Vec::new();
         let mut outside = false;
-        let (edges, exp) = crate::geom::minkowski_edges_filtered(&ba.shape, &bb.shape);
+        let mink = self.minkowski(a, b);
+        let (edges, exp) = (&mink.0, mink.1);
         // d · n against h · 2^exp in integers: both sides times the positive
         // xd · yd · 2^max(−exp, 0) (no rational arithmetic, no gcd per edge)
         let (xn, xd) = (d.x.numer(), d.x.denom());
@@ -856,7 +919,7 @@ impl World {
         // (on enclosures first: only the edges that `d` may lie on, the
         // active ones, are compared exactly)
         let side = crate::geom::EdgeSideFilter::new(&d, exp);
-        for e in &edges {
+        for e in edges {
             match side.of(e) {
                 Some(std::cmp::Ordering::Less) => continue,
                 Some(std::cmp::Ordering::Greater) => {
