@@ -257,7 +257,7 @@ const FACES: usize = 256;
 pub(crate) type FacesKey = [u64; 15];
 
 /// One entry of a [`FacesCache`].
-type FacesEntry = Option<(FacesKey, Time, bool)>;
+type FacesEntry = Option<(FacesKey, Time, bool, Option<super::local::Certs>)>;
 
 /// Recent answers of [`super::Kss::faces_valid_on`], direct-mapped: a
 /// corridor's validity is a function of its two bodies' views (frame uid
@@ -298,14 +298,26 @@ impl FacesCache {
     /// The answer kept for `key` at instant `t`, if any.
     pub(crate) fn get(&self, key: &FacesKey, t: &Time) -> Option<bool> {
         match &self.0.borrow()[Self::slot(key)] {
-            Some((k, at, v)) if k == key && at.is_known_same(t) => Some(*v),
+            Some((k, at, v, _)) if k == key && at.is_known_same(t) => Some(*v),
             _ => None,
         }
     }
 
-    /// Keep answer `v` for `key` at instant `t`.
-    pub(crate) fn put(&self, key: FacesKey, t: &Time, v: bool) {
-        self.0.borrow_mut()[Self::slot(&key)] = Some((key, t.clone(), v));
+    /// The junction certificates kept with a valid answer for `key` at
+    /// instant `t` ([`super::Kss::corridor_certs`]), if any.
+    pub(crate) fn certs(&self, key: &FacesKey, t: &Time) -> Option<super::local::Certs> {
+        match &self.0.borrow()[Self::slot(key)] {
+            Some((k, at, true, Some(certs))) if k == key && at.is_known_same(t) => {
+                Some(certs.clone())
+            }
+            _ => None,
+        }
+    }
+
+    /// Keep answer `v` for `key` at instant `t`, with the junction
+    /// certificates read off the faces where the answer is `true`.
+    pub(crate) fn put(&self, key: FacesKey, t: &Time, v: bool, certs: Option<super::local::Certs>) {
+        self.0.borrow_mut()[Self::slot(&key)] = Some((key, t.clone(), v, certs));
     }
 }
 

@@ -8,6 +8,8 @@
 //! of a walk, which is short next to an event), so that an event touches only
 //! the certificates of the few corridors and triangles it changes.
 
+use arrayvec::ArrayVec;
+
 use super::certs::{order_cert, Cert, CertKind};
 use super::faces::{coincide_forever, step_ccw, step_cw, turn_after};
 use super::geo::Geo;
@@ -49,6 +51,13 @@ pub struct Junction {
 /// A corner of a corridor face ([`Kss::corners_with`]): its junction, and
 /// the end of a bridge of length zero merged into it, if any.
 type Corner = (Junction, Option<Att>);
+
+/// The certificates of one owner: a corridor's corners (four per face at
+/// most) or hull turns, a triangle's orientation.
+pub type Certs = ArrayVec<Cert, 8>;
+
+/// The junctions of one face: two per chain piece at most.
+type FaceJunctions = ArrayVec<Junction, 4>;
 
 /// A piece of chain in face order: from `start` clockwise over `len` edges.
 #[derive(Clone, Copy, Debug)]
@@ -187,17 +196,32 @@ fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> b
     true
 }
 
+/// Sort `certs` and drop repeats.
+fn sort_dedup(certs: &mut Certs) {
+    certs.sort();
+    // (sorted: a repeated certificate follows its first copy)
+    let mut kept = 0;
+    for i in 0..certs.len() {
+        if kept == 0 || certs[i] != certs[kept - 1] {
+            certs[kept] = certs[i];
+            kept += 1;
+        }
+    }
+    certs.truncate(kept);
+}
+
 impl Kss {
     /// The faces of corridor `k` between two bodies as pieces (none for an
     /// empty corridor or an ω-corridor), using middle bridge `mid`.
-    fn faces_with(&self, world: &Geo, k: CorrId, mid: Option<(u32, u32)>) -> Vec<Face> {
+    fn faces_with(&self, world: &Geo, k: CorrId, mid: Option<(u32, u32)>) -> ArrayVec<Face, 2> {
         let c = &self.corrs[k.0 as usize];
+        let mut out = ArrayVec::new();
         if c.b == Obj::Omega || (c.len_a == 0 && c.len_b == 0) {
-            return Vec::new();
+            return out;
         }
         let (a_s, _b_s, _a_t, b_t) = self.ends(k);
         match mid {
-            None => vec![Face {
+            None => out.push(Face {
                 p: [
                     Piece {
                         start: a_s,
@@ -209,34 +233,33 @@ impl Kss {
                     },
                 ],
                 e: [EdgeRef::EndT, EdgeRef::EndS],
-            }],
+            }),
             Some((i, j)) => {
                 let alpha = step_cw(world, a_s, i);
                 let beta = step_cw(world, b_t, j);
-                vec![
-                    Face {
-                        p: [
-                            Piece { start: a_s, len: i },
-                            Piece {
-                                start: beta,
-                                len: c.len_b - j,
-                            },
-                        ],
-                        e: [EdgeRef::Mid, EdgeRef::EndS],
-                    },
-                    Face {
-                        p: [
-                            Piece {
-                                start: alpha,
-                                len: c.len_a - i,
-                            },
-                            Piece { start: b_t, len: j },
-                        ],
-                        e: [EdgeRef::EndT, EdgeRef::Mid],
-                    },
-                ]
+                out.push(Face {
+                    p: [
+                        Piece { start: a_s, len: i },
+                        Piece {
+                            start: beta,
+                            len: c.len_b - j,
+                        },
+                    ],
+                    e: [EdgeRef::Mid, EdgeRef::EndS],
+                });
+                out.push(Face {
+                    p: [
+                        Piece {
+                            start: alpha,
+                            len: c.len_a - i,
+                        },
+                        Piece { start: b_t, len: j },
+                    ],
+                    e: [EdgeRef::EndT, EdgeRef::Mid],
+                });
             }
         }
+        out
     }
 
     /// The junctions of the faces of corridor `k` with middle bridge `mid`,
@@ -246,7 +269,7 @@ impl Kss {
         world: &Geo,
         k: CorrId,
         mid: Option<(u32, u32)>,
-    ) -> Vec<Option<Vec<Junction>>> {
+    ) -> ArrayVec<Option<FaceJunctions>, 2> {
         self.faces_with(world, k, mid)
             .into_iter()
             .map(|f| {
@@ -254,7 +277,7 @@ impl Kss {
                     return None;
                 }
                 let last = |p: Piece| step_cw(world, p.start, p.len);
-                let mut out = Vec::with_capacity(4);
+                let mut out = FaceJunctions::new();
                 for x in 0..2 {
                     let p = f.p[x];
                     let (prev_piece, next_piece) = (f.p[1 - x], f.p[1 - x]);
@@ -293,7 +316,7 @@ impl Kss {
     }
 
     /// The junctions of corridor `k` as it stands, all faces together.
-    pub fn junctions(&self, world: &Geo, k: CorrId) -> Vec<Junction> {
+    pub fn junctions(&self, world: &Geo, k: CorrId) -> ArrayVec<Junction, 8> {
         let mid = self.corrs[k.0 as usize].mid;
         self.junctions_with(world, k, mid)
             .into_iter()
@@ -313,14 +336,14 @@ impl Kss {
         world: &Geo,
         k: CorrId,
         mid: Option<(u32, u32)>,
-    ) -> Vec<Option<Vec<Corner>>> {
+    ) -> ArrayVec<Option<ArrayVec<Corner, 4>>, 2> {
         self.junctions_with(world, k, mid)
             .into_iter()
             .map(|face| {
                 face.map(|js| {
                     let n = js.len();
                     // the junction leaving each bridge of length zero
-                    let merged: Vec<bool> = (0..n)
+                    let merged: ArrayVec<bool, 4> = (0..n)
                         .map(|x| {
                             let y = (x + 1) % n;
                             js[x].out_edge != EdgeRef::Chain
@@ -369,7 +392,7 @@ impl Kss {
 
     /// The corners of corridor `k` as it stands (`Kss::corners_with` with its own middle bridge),
     /// all faces together: what its junction certificates are made of.
-    pub fn corners(&self, world: &Geo, k: CorrId) -> Vec<Junction> {
+    pub fn corners(&self, world: &Geo, k: CorrId) -> ArrayVec<Junction, 8> {
         let mid = self.corrs[k.0 as usize].mid;
         self.corners_with(world, k, mid)
             .into_iter()
@@ -400,13 +423,14 @@ impl Kss {
         if let Some(v) = world.shapes.faces.get(&key, t) {
             debug_assert_eq!(
                 v,
-                self.faces_valid_core(world, k, mid, (t, side), &sign, true),
+                self.faces_valid_core(world, k, mid, (t, side), &sign, true, &mut None),
                 "the validity cache answers for another corridor: {k:?}"
             );
             return v;
         }
-        let v = self.faces_valid_core(world, k, mid, (t, side), &sign, true);
-        world.shapes.faces.put(key, t, v);
+        let mut certs = (side == Side::After && !self.held.contains_key(&k)).then(Certs::new);
+        let v = self.faces_valid_core(world, k, mid, (t, side), &sign, true, &mut certs);
+        world.shapes.faces.put(key, t, v, certs.filter(|_| v));
         v
     }
 
@@ -460,9 +484,18 @@ impl Kss {
         t: &Time,
         sign: &dyn Fn(&Junction) -> Sign,
     ) -> bool {
-        self.faces_valid_core(world, k, mid, (t, Side::After), sign, false)
+        self.faces_valid_core(world, k, mid, (t, Side::After), sign, false, &mut None)
     }
 
+    /// Whether corridor `k`'s faces with middle bridge `mid` are
+    /// pseudo-triangles on `side` of `t`, the junctions signed by `sign`
+    /// (with `clear`, each junction keeping its polygon out of its face
+    /// too). Collects into `certs` (when given) the junction certificates
+    /// that [`Kss::corridor_certs`] makes of the faces' corners; sets it to
+    /// `None` where it cannot (an ω-corridor, a zero turn, whose
+    /// certificate is an order one, or a face skipped as a path traversed
+    /// twice).
+    #[allow(clippy::too_many_arguments)]
     fn faces_valid_core(
         &self,
         world: &Geo,
@@ -471,8 +504,12 @@ impl Kss {
         (t, side): (&Time, Side),
         sign: &dyn Fn(&Junction) -> Sign,
         clear: bool,
+        certs: &mut Option<Certs>,
     ) -> bool {
         let c = &self.corrs[k.0 as usize];
+        if c.b == Obj::Omega {
+            *certs = None;
+        }
         if let Some((i, j)) = mid {
             if i > c.len_a || j > c.len_b || (i == 0 && j == c.len_b) || (i == c.len_a && j == 0) {
                 return false;
@@ -497,6 +534,7 @@ impl Kss {
                         .collect();
                 let places = super::faces::collapse_resting(world, &cycle);
                 if super::faces::doubly_traversed(world, &places) {
+                    *certs = None;
                     continue;
                 }
             }
@@ -517,6 +555,19 @@ impl Kss {
                 }
                 let s = sign(j);
                 all_zero &= s == Sign::Zero;
+                if s == Sign::Zero {
+                    *certs = None;
+                } else if let Some(cs) = certs.as_mut() {
+                    let cert = Cert {
+                        p: [j.prev, j.v, j.next],
+                        sign: s,
+                        kind: CertKind::Junction,
+                    }
+                    .canonical();
+                    if cs.try_push(cert).is_err() {
+                        *certs = None;
+                    }
+                }
                 // the end of a bridge of length zero left out of the corner
                 // keeps its polygon out of the face too
                 if let Some(r) = rest {
@@ -613,26 +664,50 @@ impl Kss {
     }
 
     /// The certificates owned by partition triangle `t`.
-    pub fn triangle_certs(&self, tri: TriId) -> Vec<Cert> {
+    pub fn triangle_certs(&self, tri: TriId) -> Certs {
         let c = self.tris[tri.0 as usize].c;
+        let mut out = Certs::new();
         if c.iter().any(|a| a.is_omega()) {
-            return Vec::new();
+            return out;
         }
-        vec![Cert {
-            p: c,
-            sign: Sign::Positive,
-            kind: CertKind::Triangle,
-        }
-        .canonical()]
+        out.push(
+            Cert {
+                p: c,
+                sign: Sign::Positive,
+                kind: CertKind::Triangle,
+            }
+            .canonical(),
+        );
+        out
     }
 
     /// The certificates owned by corridor `k` at time `t`: its junctions
     /// (with the class they have just after `t`) or, for an ω-corridor, the
     /// hull turns at its hull-bridge ends. Turns that are identically zero
     /// are left out.
-    pub fn corridor_certs(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<Cert> {
+    pub fn corridor_certs(&self, world: &Geo, k: CorrId, t: &Time) -> Certs {
+        let c = &self.corrs[k.0 as usize];
+        if c.b != Obj::Omega && !self.held.contains_key(&k) {
+            let key = self.faces_key(world, k, c.mid, (t, Side::After));
+            // (the certificates read off the faces when the validity
+            // cache last found this corridor valid at this instant)
+            if let Some(mut out) = world.shapes.faces.certs(&key, t) {
+                sort_dedup(&mut out);
+                debug_assert_eq!(
+                    out,
+                    self.corridor_certs_fresh(world, k, t),
+                    "the validity cache's certificates are another corridor's: {k:?}"
+                );
+                return out;
+            }
+        }
+        self.corridor_certs_fresh(world, k, t)
+    }
+
+    /// [`Kss::corridor_certs`] read from the corners' turns.
+    fn corridor_certs_fresh(&self, world: &Geo, k: CorrId, t: &Time) -> Certs {
         let flipped: &[[Att; 3]] = self.held.get(&k).map_or(&[], |v| v.as_slice());
-        let mut out: Vec<Cert> = Vec::new();
+        let mut out = Certs::new();
         let c = &self.corrs[k.0 as usize];
         if c.b == Obj::Omega {
             for (p, _) in self.hull_turns(world, k) {
@@ -669,8 +744,7 @@ impl Kss {
                 }
             }
         }
-        out.sort();
-        out.dedup();
+        sort_dedup(&mut out);
         out
     }
 
@@ -678,19 +752,19 @@ impl Kss {
     /// `(a_s − 1, a_s, x)` and `(y, a_t, a_t + 1)`, or `(y, a_s, x)` when
     /// `a_s` is its polygon's only hull vertex (`x`, `y`: the hull
     /// neighbours on other objects).
-    pub fn hull_turns(&self, world: &Geo, k: CorrId) -> Vec<([Att; 3], Att)> {
+    pub fn hull_turns(&self, world: &Geo, k: CorrId) -> ArrayVec<([Att; 3], Att), 2> {
         let c = &self.corrs[k.0 as usize];
         let (a_s, _, a_t, _) = self.ends(k);
         let x = self.other_finite_corner(c.s.0, a_s);
         let y = self.other_finite_corner(c.t.0, a_t);
+        let mut out = ArrayVec::new();
         if c.len_a == 0 {
-            vec![([y, a_s, x], a_s)]
+            out.push(([y, a_s, x], a_s));
         } else {
-            vec![
-                ([step_cw(world, a_s, 1), a_s, x], a_s),
-                ([y, a_t, step_ccw(world, a_t)], a_t),
-            ]
+            out.push(([step_cw(world, a_s, 1), a_s, x], a_s));
+            out.push(([y, a_t, step_ccw(world, a_t)], a_t));
         }
+        out
     }
 
     /// Whether corridor `k` has four convex corners just after `t` (it needs

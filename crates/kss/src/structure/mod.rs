@@ -125,6 +125,19 @@ impl Att {
         (u64::from(obj) << 32) | u64::from(self.v)
     }
 
+    /// The point whose [`Att::word`] is `w`.
+    pub fn from_word(w: u64) -> Att {
+        let (obj, v) = ((w >> 32) as u32, w as u32);
+        Att {
+            obj: if obj == u32::MAX {
+                Obj::Omega
+            } else {
+                Obj::Body(crate::world::BodyId(obj))
+            },
+            v,
+        }
+    }
+
     /// The point at infinity.
     pub const OMEGA: Att = Att {
         obj: Obj::Omega,

@@ -325,8 +325,7 @@ impl Kinetic {
             };
             s.owners.retain(|&x| x != o);
             if s.owners.is_empty() {
-                let (cert, key, fp) = (s.cert, s.key, s.fp.as_deref().copied());
-                let at = due_time(&self.queue, key, &s.popped).cloned();
+                let (cert, key) = (s.cert, s.key);
                 let due = self.instant.handling == Some(*p) || self.due_now(p, key, now);
                 if !due && fresh.contains(&cert) {
                     // the same certificate again, not due at this instant:
@@ -335,16 +334,19 @@ impl Kinetic {
                     kept.push(*p);
                     continue;
                 }
-                if self.instant.handling != Some(*p)
-                    && due
-                    && due_is_failing(world, &cert, (fp.as_ref(), at.as_ref()), now)
-                {
-                    pending.insert(*p, cert);
+                if self.instant.handling != Some(*p) && due {
+                    let s = &self.certs[p];
+                    let at = due_time(&self.queue, key, &s.popped);
+                    if due_is_failing(world, &cert, (s.fp.as_deref(), at), now) {
+                        pending.insert(*p, cert);
+                    }
                 }
                 self.drop_cert(p);
             }
         }
-        let mut mine = Vec::with_capacity(fresh.len());
+        // (the old list's buffer, read above, holds the new one)
+        let mut mine = old;
+        mine.clear();
         for c in fresh {
             let c = match pending.get(&c.p) {
                 Some(old) if old.sign != c.sign => *old,
@@ -519,13 +521,16 @@ impl Kinetic {
 
     /// The certificates on body `b` that name one of `ids`.
     pub(super) fn certs_naming(&self, b: BodyId, ids: &[Att]) -> Vec<[Att; 3]> {
-        self.by_body
+        let mut out: Vec<[Att; 3]> = self
+            .by_body
             .get(&b)
             .into_iter()
             .flatten()
             .filter(|p| p.iter().any(|x| ids.contains(x)))
             .copied()
-            .collect()
+            .collect();
+        out.sort_unstable();
+        out
     }
 
     /// The owners of the certificates on body `b` that name one of `ids`.

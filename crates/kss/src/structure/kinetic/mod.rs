@@ -14,8 +14,6 @@
 //! - `repair`: pops, removals, insertions, local repair, rebuilds, merges;
 //! - `audit`: the exact check of every invariant between events.
 
-use std::collections::BTreeSet;
-
 use super::certs::Cert;
 use super::geo::Geo;
 use super::ops::Owner;
@@ -48,6 +46,9 @@ use instant::InstantState;
 
 /// A hash map with a fixed hasher (the same order in every run).
 type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
+
+/// A hash set with a fixed hasher (the same order in every run).
+type FastSet<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
 
 /// A certificate, where it sits in the queue, and who owns it.
 #[derive(Clone, Debug)]
@@ -109,8 +110,9 @@ pub struct Kinetic {
     /// sorted first.
     certs: FastMap<[Att; 3], Scheduled>,
     /// The certificates that involve each body (for local rescheduling when
-    /// a flight plan changes).
-    by_body: FastMap<BodyId, BTreeSet<[Att; 3]>>,
+    /// a flight plan changes): hashed, sorted where the order matters (it
+    /// decides the queue's insertion order, the last tie-breaker).
+    by_body: FastMap<BodyId, FastSet<[Att; 3]>>,
     owned_tri: Vec<Vec<[Att; 3]>>,
     owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,

@@ -31,12 +31,6 @@ impl Kinetic {
         // (the motions changed: operations before this are no cycle of
         // operations after it)
         self.instant.recent.clear();
-        let mut touched: Vec<[Att; 3]> = bodies
-            .iter()
-            .filter_map(|b| self.by_body.get(b))
-            .flatten()
-            .copied()
-            .collect();
         for &_b in bodies {
             trace!(
                 "motion of {_b:?} at {}: {:?}",
@@ -45,9 +39,18 @@ impl Kinetic {
             );
         }
         let waiting = std::mem::take(&mut self.instant.waiting);
-        touched.extend(waiting.iter().copied());
-        touched.sort();
-        touched.dedup();
+        // (in the order of `Att`, sorted as the points' words, which order
+        // them alike and compare faster; equal triples are one certificate)
+        let mut words: Vec<[u64; 3]> = bodies
+            .iter()
+            .filter_map(|b| self.by_body.get(b))
+            .flatten()
+            .chain(&waiting)
+            .map(|p| p.map(Att::word))
+            .collect();
+        words.sort_unstable();
+        words.dedup();
+        let touched: Vec<[Att; 3]> = words.iter().map(|w| w.map(Att::from_word)).collect();
         // (a certificate that holds until a bridge of one of its bodies
         // ends is scheduled then, when that body's motion changes again;
         // `turning[i]`: the filter proved `touched[i]` a turn certificate
@@ -310,7 +313,7 @@ impl Kinetic {
         let meet = |x: Att, y: Att| {
             !apart(x.obj, y.obj) && crate::structure::faces::coincide_at(world, x, y, now)
         };
-        let owners: BTreeSet<CorrId> = ps
+        let mut owners: Vec<CorrId> = ps
             .iter()
             .filter_map(|p| self.certs.get(p))
             .flat_map(|s| s.owners.iter())
@@ -319,16 +322,20 @@ impl Kinetic {
                 Owner::Tri(_) => None,
             })
             .collect();
+        owners.sort_unstable();
+        owners.dedup();
         // (and the corridors at their ends: a turn through two resting
         // points has no certificate that would name them, and an empty
         // corridor has none at all)
         let mut cands = owners.clone();
-        for k in owners {
+        for &k in &owners {
             let c = &self.kss.corrs[k.0 as usize];
             for tri in [c.s.0, c.t.0] {
                 cands.extend(self.kss.tris[tri.0 as usize].corr);
             }
         }
+        cands.sort_unstable();
+        cands.dedup();
         let mut out = BTreeSet::new();
         for k in cands {
             let c = &self.kss.corrs[k.0 as usize];

@@ -255,3 +255,28 @@ fn pops_in_place_keep_the_structure_valid() {
         "{local} local pops, {audited} audited"
     );
 }
+
+#[test]
+fn point_words_order_triples_as_the_points_do() {
+    use crate::world::BodyId;
+    let pts: Vec<Att> = [0u32, 1, 7, u32::MAX - 1]
+        .into_iter()
+        .flat_map(|b| [0u32, 3, u32::MAX].map(|v| Att::vertex(BodyId(b), v)))
+        .chain([Att::OMEGA])
+        .collect();
+    let mut triples: Vec<[Att; 3]> = Vec::new();
+    for (i, &a) in pts.iter().enumerate() {
+        for &b in &pts[i..] {
+            for &c in pts.iter().rev().take(5) {
+                triples.push([a, b, c]);
+                triples.push([c, a, b]);
+            }
+        }
+    }
+    let mut by_ord = triples.clone();
+    by_ord.sort();
+    let mut words: Vec<[u64; 3]> = triples.iter().map(|p| p.map(Att::word)).collect();
+    words.sort_unstable();
+    let by_word: Vec<[Att; 3]> = words.iter().map(|w| w.map(Att::from_word)).collect();
+    assert_eq!(by_ord, by_word);
+}
