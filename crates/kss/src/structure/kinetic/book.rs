@@ -344,9 +344,7 @@ impl Kinetic {
                 self.drop_cert(p);
             }
         }
-        // (the old list's buffer, read above, holds the new one)
-        let mut mine = old;
-        mine.clear();
+        let mut mine = Vec::with_capacity(fresh.len());
         for c in fresh {
             let c = match pending.get(&c.p) {
                 Some(old) if old.sign != c.sign => *old,

@@ -50,6 +50,106 @@ type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>
 /// A hash set with a fixed hasher (the same order in every run).
 type FastSet<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
 
+/// The certificates on one body ([`Kinetic::by_body`]): a list while
+/// there are at most [`FEW_CERTS`] (most bodies have a few dozen, which a
+/// list keeps in less memory than a hashed set or a `BTreeSet` and
+/// searches about as fast), a hashed set once there are more (the walls
+/// of a box). Unordered either way.
+#[derive(Clone, Debug)]
+enum CertSet {
+    Few(Vec<[Att; 3]>),
+    Many(FastSet<[Att; 3]>),
+}
+
+/// The size above which a [`CertSet`] is hashed.
+const FEW_CERTS: usize = 256;
+
+impl Default for CertSet {
+    fn default() -> CertSet {
+        CertSet::Few(Vec::new())
+    }
+}
+
+impl CertSet {
+    fn insert(&mut self, p: [Att; 3]) {
+        match self {
+            CertSet::Few(v) => {
+                if v.contains(&p) {
+                    return;
+                }
+                if v.len() < FEW_CERTS {
+                    // (grown by a few at a time: doubling would leave up
+                    // to half of a list of this size unused)
+                    if v.len() == v.capacity() {
+                        v.reserve_exact(8);
+                    }
+                    v.push(p);
+                } else {
+                    let mut set: FastSet<[Att; 3]> = v.drain(..).collect();
+                    set.insert(p);
+                    *self = CertSet::Many(set);
+                }
+            }
+            CertSet::Many(set) => {
+                set.insert(p);
+            }
+        }
+    }
+
+    fn remove(&mut self, p: &[Att; 3]) {
+        match self {
+            CertSet::Few(v) => {
+                if let Some(i) = v.iter().position(|q| q == p) {
+                    v.swap_remove(i);
+                }
+            }
+            CertSet::Many(set) => {
+                set.remove(p);
+            }
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        match self {
+            CertSet::Few(v) => v.is_empty(),
+            CertSet::Many(set) => set.is_empty(),
+        }
+    }
+
+    fn iter(&self) -> CertSetIter<'_> {
+        match self {
+            CertSet::Few(v) => CertSetIter::Few(v.iter()),
+            CertSet::Many(set) => CertSetIter::Many(set.iter()),
+        }
+    }
+}
+
+/// The iterator of a [`CertSet`].
+enum CertSetIter<'a> {
+    Few(std::slice::Iter<'a, [Att; 3]>),
+    Many(std::collections::hash_set::Iter<'a, [Att; 3]>),
+}
+
+impl<'a> Iterator for CertSetIter<'a> {
+    type Item = &'a [Att; 3];
+
+    fn next(&mut self) -> Option<&'a [Att; 3]> {
+        match self {
+            CertSetIter::Few(i) => i.next(),
+            CertSetIter::Many(i) => i.next(),
+        }
+    }
+}
+
+impl<'a> IntoIterator for &'a CertSet {
+    type Item = &'a [Att; 3];
+    type IntoIter = CertSetIter<'a>;
+
+    fn into_iter(self) -> CertSetIter<'a> {
+        self.iter()
+    }
+}
+
 /// A certificate, where it sits in the queue, and who owns it.
 #[derive(Clone, Debug)]
 struct Scheduled {
@@ -110,9 +210,10 @@ pub struct Kinetic {
     /// sorted first.
     certs: FastMap<[Att; 3], Scheduled>,
     /// The certificates that involve each body (for local rescheduling when
-    /// a flight plan changes): hashed, sorted where the order matters (it
-    /// decides the queue's insertion order, the last tie-breaker).
-    by_body: FastMap<BodyId, FastSet<[Att; 3]>>,
+    /// a flight plan changes): unordered ([`CertSet`]), sorted where the
+    /// order matters (it decides the queue's insertion order, the last
+    /// tie-breaker).
+    by_body: FastMap<BodyId, CertSet>,
     owned_tri: Vec<Vec<[Att; 3]>>,
     owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,
