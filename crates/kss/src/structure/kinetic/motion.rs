@@ -336,11 +336,49 @@ impl Kinetic {
         }
         cands.sort_unstable();
         cands.dedup();
+        // (two bodies none of whose vertices can be at one place at `now`,
+        // as their vertices' enclosures prove, each pair asked once: a
+        // corridor between them has only their vertices, and none rests)
+        let mut vertex_apart: Vec<((BodyId, BodyId), bool)> = Vec::new();
         let mut out = BTreeSet::new();
         for k in cands {
             let c = &self.kss.corrs[k.0 as usize];
             if apart(c.a, c.b) {
                 continue;
+            }
+            if let (Obj::Body(p), Obj::Body(q)) = (c.a, c.b) {
+                let key = (p.min(q), p.max(q));
+                let known = vertex_apart.iter().find(|(x, _)| *x == key).map(|e| e.1);
+                let proved = known.unwrap_or_else(|| {
+                    let v = vertices_apart(world, p, q, ti);
+                    vertex_apart.push((key, v));
+                    v
+                });
+                static N: [std::sync::atomic::AtomicU64; 2] = [
+                    std::sync::atomic::AtomicU64::new(0),
+                    std::sync::atomic::AtomicU64::new(0),
+                ];
+                N[proved as usize].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                if std::env::var_os("KSS_CNT").is_some()
+                    && N[0].load(std::sync::atomic::Ordering::Relaxed) % 1000 == 0
+                {
+                    eprintln!("cnt {:?}", N);
+                }
+                if proved {
+                    debug_assert!(
+                        self.kss
+                            .junctions(world, k)
+                            .iter()
+                            .flat_map(|j| [j.prev, j.v, j.next])
+                            .chain({
+                                let (a_s, b_s, a_t, b_t) = self.kss.ends(k);
+                                [a_s, b_s, a_t, b_t]
+                            })
+                            .all(|x| x.obj == c.a || x.obj == c.b),
+                        "a corridor between two bodies names a third"
+                    );
+                    continue;
+                }
             }
             let triples: Vec<[Att; 3]> = if c.b == Obj::Omega {
                 self.kss
@@ -376,4 +414,60 @@ impl Kinetic {
         }
         out
     }
+}
+
+/// Whether the f64 positions of the vertices of bodies `p` and `q` at a
+/// time in `t` prove that no vertex of `p` is at one place with a vertex of
+/// `q` then: every pair is apart by more than their radii
+/// ([`crate::geom::MidRad::apart`]). Asked only of two bodies seen as
+/// their real polygons (whose positions cost a few products each); `false`
+/// for any other pair, or where a position is not finite.
+fn vertices_apart(world: &Geo, p: BodyId, q: BodyId, t: Interval) -> bool {
+    use crate::geom::MidRad;
+    let places = |b: BodyId| -> Option<Vec<MidRad>> {
+        if world.shapes.approx(b).is_some() {
+            return None;
+        }
+        (0..world.body(b).shape.len() as u32)
+            .map(|k| world.mid_rad(Att::vertex(b, k), t))
+            .collect()
+    };
+    let (Some(mp), Some(mq)) = (places(p), places(q)) else {
+        return false;
+    };
+    // (only the vertices of `p` near `q`'s box are compared one by one)
+    let bound = |v: &[MidRad]| {
+        v.iter().fold(
+            [
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ],
+            |b, m| {
+                [
+                    b[0].min(m.x - m.r),
+                    b[1].max(m.x + m.r),
+                    b[2].min(m.y - m.r),
+                    b[3].max(m.y + m.r),
+                ]
+            },
+        )
+    };
+    // (a square around that box: every rounding above, of the box's ends,
+    // its centre and its half-width, is within `ε` of the largest
+    // coordinate `m`, and `4εm` covers them)
+    let [x0, x1, y0, y1] = bound(&mq);
+    let m = x0.abs().max(x1.abs()).max(y0.abs()).max(y1.abs());
+    let eps = f64::EPSILON;
+    let box_q = MidRad {
+        x: 0.5 * x0 + 0.5 * x1,
+        y: 0.5 * y0 + 0.5 * y1,
+        r: (0.5 * x1 - 0.5 * x0).max(0.5 * y1 - 0.5 * y0) * (1.0 + 4.0 * eps)
+            + 4.0 * eps * m
+            + f64::MIN_POSITIVE,
+    };
+    mp.iter()
+        .filter(|u| !box_q.r.is_finite() || !u.apart(box_q))
+        .all(|u| mq.iter().all(|w| u.apart(*w)))
 }
