@@ -32,6 +32,7 @@ pub mod counters;
 pub mod events;
 pub mod faces;
 pub mod geo;
+pub mod incidence;
 pub mod kinetic;
 pub mod local;
 pub(crate) mod memo;
@@ -42,6 +43,7 @@ pub mod remove;
 pub mod view;
 
 use crate::world::BodyId;
+use incidence::{Incidence, Slots};
 
 /// Why an operation of the structure failed. The text says where and what;
 /// the variant says which kind of failure it is, and so what the engine does
@@ -198,9 +200,11 @@ pub struct Corridor {
 #[derive(Clone, Debug, Default)]
 pub struct Kss {
     /// Partition triangles.
-    pub tris: Vec<PartitionTriangle>,
+    pub tris: Slots<PartitionTriangle>,
     /// Corridors.
-    pub corrs: Vec<Corridor>,
+    pub corrs: Slots<Corridor>,
+    /// Which triangles and corridors lie on each body.
+    pub incidence: Incidence,
     /// Junctions `(prev, v, next)` of a corridor whose certificate keeps the
     /// sign opposite to the one it has just after the current instant: it
     /// fails at this instant and is handled as one of its events (see

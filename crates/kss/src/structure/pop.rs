@@ -156,9 +156,31 @@ impl Kss {
         }
     }
 
-    /// The partition-triangle corners at each of two vertices, as
-    /// `(triangle, corner index)`, in one scan of the triangles.
-    fn corners_at(&self, v: [Att; 2]) -> [Vec<(TriId, usize)>; 2] {
+    /// The partition-triangle corners at each of two vertices of body `b`,
+    /// as `(triangle, corner index)` in the order of the triangles, from
+    /// the triangles on `b` ([`Kss::incidence`]).
+    fn corners_at(&self, b: crate::world::BodyId, v: [Att; 2]) -> [Vec<(TriId, usize)>; 2] {
+        let mut out = [Vec::new(), Vec::new()];
+        for ti in self.incidence.tris_on(&self.tris, b) {
+            for (ci, c) in self.tris[ti as usize].c.iter().enumerate() {
+                for (n, x) in v.iter().enumerate() {
+                    if c == x {
+                        out[n].push((TriId(ti), ci));
+                    }
+                }
+            }
+        }
+        debug_assert_eq!(
+            out,
+            self.corners_at_scan(v),
+            "the incidence index misses a triangle"
+        );
+        out
+    }
+
+    /// [`Kss::corners_at`] by a scan of every triangle (debug builds check
+    /// the index against it).
+    fn corners_at_scan(&self, v: [Att; 2]) -> [Vec<(TriId, usize)>; 2] {
         let mut out = [Vec::new(), Vec::new()];
         for (ti, tr) in self.tris.iter().enumerate() {
             for (ci, c) in tr.c.iter().enumerate() {
@@ -207,14 +229,22 @@ impl Kss {
         }
         let a_i = Att::vertex(b, i as u32);
         // the triangles with a corner at `v`, and every corridor along `B`
-        let [at_v, at_i] = self.corners_at([a, a_i]);
-        let on_body = |o: Obj| matches!(o, Obj::Body(x) if x == b);
-        let chains: Vec<ChainRec> = self
-            .corrs
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| on_body(c.a) || on_body(c.b))
-            .filter_map(|(ki, _)| {
+        let [at_v, at_i] = self.corners_at(b, [a, a_i]);
+        let along = self.incidence.corrs_on(&self.corrs, b);
+        #[cfg(debug_assertions)]
+        {
+            let on_body = |o: Obj| matches!(o, Obj::Body(x) if x == b);
+            let scan: Vec<u32> = (0..self.corrs.len() as u32)
+                .filter(|&ki| {
+                    on_body(self.corrs[ki as usize].a) || on_body(self.corrs[ki as usize].b)
+                })
+                .collect();
+            debug_assert_eq!(along, scan, "the incidence index misses a corridor");
+        }
+        let chains: Vec<ChainRec> = along
+            .into_iter()
+            .filter_map(|ki| {
+                let ki = ki as usize;
                 let kid = CorrId(ki as u32);
                 let c = &self.corrs[ki];
                 let on_a = c.a == body;

@@ -21,7 +21,9 @@
 //! has no triangulation even shrunk, or fewer than two bodies stay) is
 //! reported as an error and the caller rebuilds.
 
-use std::collections::{HashMap, HashSet};
+/// Maps and sets with the fast fixed hasher (keys are small ids).
+type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
+type HashSet<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
 
 use super::build::{cross_two_object_face, is_partition, Vertices};
 use super::geo::Geo;
@@ -195,26 +197,49 @@ impl Kss {
     }
 
     /// The bodies that share a partition triangle or a corridor with a body
-    /// of `set`, not in it (sorted). O(size of the structure).
+    /// of `set`, not in it (sorted), from the triangles and corridors on
+    /// the set's bodies ([`Kss::incidence`]).
     pub fn neighbours(&self, set: &[BodyId]) -> Vec<BodyId> {
-        let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
         let mut out: Vec<BodyId> = Vec::new();
         let mut add = |objs: &[Obj]| {
-            if objs.iter().any(|&o| in_set(o)) {
-                out.extend(objs.iter().filter_map(|&o| match o {
-                    Obj::Body(b) if !set.contains(&b) => Some(b),
-                    _ => None,
-                }));
-            }
+            out.extend(objs.iter().filter_map(|&o| match o {
+                Obj::Body(b) if !set.contains(&b) => Some(b),
+                _ => None,
+            }));
         };
-        for t in &self.tris {
-            add(&t.c.map(|c| c.obj));
-        }
-        for c in &self.corrs {
-            add(&[c.a, c.b]);
+        for &b in set {
+            for t in self.incidence.tris_on(&self.tris, b) {
+                add(&self.tris[t as usize].c.map(|c| c.obj));
+            }
+            for k in self.incidence.corrs_on(&self.corrs, b) {
+                let c = &self.corrs[k as usize];
+                add(&[c.a, c.b]);
+            }
         }
         out.sort();
         out.dedup();
+        #[cfg(debug_assertions)]
+        {
+            let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
+            let mut scan: Vec<BodyId> = Vec::new();
+            let mut add = |objs: &[Obj]| {
+                if objs.iter().any(|&o| in_set(o)) {
+                    scan.extend(objs.iter().filter_map(|&o| match o {
+                        Obj::Body(b) if !set.contains(&b) => Some(b),
+                        _ => None,
+                    }));
+                }
+            };
+            for t in &self.tris {
+                add(&t.c.map(|c| c.obj));
+            }
+            for c in &self.corrs {
+                add(&[c.a, c.b]);
+            }
+            scan.sort();
+            scan.dedup();
+            debug_assert_eq!(out, scan, "the incidence index misses a neighbour");
+        }
         out
     }
 
@@ -229,21 +254,45 @@ impl Kss {
     ) -> Result<RemovalPlan, PlanError> {
         let keep = region != Region::Remove;
         let in_set = |o: Obj| matches!(o, Obj::Body(b) if set.contains(&b));
-        let dead_tris: Vec<TriId> = (0..self.tris.len())
-            .filter(|&i| self.tris[i].c.iter().any(|c| in_set(c.obj)))
-            .map(|i| TriId(i as u32))
+        // (from the incidence index: the triangles and corridors on the
+        // set's bodies, in the order of their ids)
+        let on_set = |of: &dyn Fn(BodyId) -> Vec<u32>| {
+            let mut ids: Vec<u32> = set.iter().flat_map(|&b| of(b)).collect();
+            ids.sort_unstable();
+            ids.dedup();
+            ids
+        };
+        let dead_tris: Vec<TriId> = on_set(&|b| self.incidence.tris_on(&self.tris, b))
+            .into_iter()
+            .map(TriId)
             .collect();
-        let star: Vec<CorrId> = (0..self.corrs.len())
-            .filter(|&i| in_set(self.corrs[i].a) || in_set(self.corrs[i].b))
-            .map(|i| CorrId(i as u32))
+        let star: Vec<CorrId> = on_set(&|b| self.incidence.corrs_on(&self.corrs, b))
+            .into_iter()
+            .map(CorrId)
             .collect();
+        debug_assert_eq!(
+            dead_tris,
+            (0..self.tris.len())
+                .filter(|&i| self.tris[i].c.iter().any(|c| in_set(c.obj)))
+                .map(|i| TriId(i as u32))
+                .collect::<Vec<_>>(),
+            "the incidence index misses a triangle"
+        );
+        debug_assert_eq!(
+            star,
+            (0..self.corrs.len())
+                .filter(|&i| in_set(self.corrs[i].a) || in_set(self.corrs[i].b))
+                .map(|i| CorrId(i as u32))
+                .collect::<Vec<_>>(),
+            "the incidence index misses a corridor"
+        );
         if dead_tris.len() < 2 && !keep {
             return Err("the body has fewer than two triangles".into());
         }
         let dead_set: HashSet<TriId> = dead_tris.iter().copied().collect();
         // the bridges of R's boundary, each with R on its left, and the
         // outside corridors beyond them
-        let mut portal: HashMap<(Att, Att), Portal> = HashMap::new();
+        let mut portal: HashMap<(Att, Att), Portal> = HashMap::default();
         let mut merged: Vec<CorrId> = Vec::new();
         let mut bridges: Vec<(Att, Att)> = Vec::new();
         for &tri in &dead_tris {
@@ -305,7 +354,7 @@ impl Kss {
             }
         }
         // local vertex numbering
-        let mut index: HashMap<Att, usize> = HashMap::new();
+        let mut index: HashMap<Att, usize> = HashMap::default();
         let mut atts: Vec<Att> = Vec::new();
         let mut add = |a: Att, atts: &mut Vec<Att>| {
             if !a.is_omega() {
@@ -322,7 +371,7 @@ impl Kss {
         for &a in &ends {
             add(a, &mut atts);
         }
-        let mut constraints: HashSet<(usize, usize)> = HashSet::new();
+        let mut constraints: HashSet<(usize, usize)> = HashSet::default();
         for &(u, v) in chains.iter().chain(&bridges) {
             if u.is_omega() || v.is_omega() {
                 continue;
@@ -334,7 +383,7 @@ impl Kss {
             constraints.insert((x.min(y), x.max(y)));
         }
         // the local triangulation, oriented exactly
-        let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut directed: HashMap<(usize, usize), usize> = HashMap::default();
         let mut tris: Vec<[usize; 3]> = Vec::new();
         if atts.len() >= 3 {
             // polygon edges first and bridges last, so that a bridge that
@@ -447,7 +496,7 @@ impl Kss {
         for &(x, y) in &hull {
             faces.push([atts[x], atts[y], Att::OMEGA]);
         }
-        let mut side_of: HashMap<(Att, Att), (usize, usize)> = HashMap::new();
+        let mut side_of: HashMap<(Att, Att), (usize, usize)> = HashMap::default();
         for (fi, f) in faces.iter().enumerate() {
             if f[0].obj == f[1].obj && f[1].obj == f[2].obj {
                 return Err("a face inside a polygon".into());
@@ -462,7 +511,7 @@ impl Kss {
                 }
             }
         }
-        let mut tri_of: HashMap<usize, usize> = HashMap::new();
+        let mut tri_of: HashMap<usize, usize> = HashMap::default();
         let mut new_tris: Vec<[Att; 3]> = Vec::new();
         for (fi, f) in faces.iter().enumerate() {
             if is_partition(f) {
@@ -513,8 +562,8 @@ impl Kss {
             End::New(ti, j) => new_tris[ti][(j as usize + i) % 3],
             End::Old(tri, j) => self.corner(tri, j as usize + i),
         };
-        let mut assigned: HashMap<End, usize> = HashMap::new();
-        let mut used: HashSet<CorrId> = HashSet::new();
+        let mut assigned: HashMap<End, usize> = HashMap::default();
+        let mut used: HashSet<CorrId> = HashSet::default();
         let mut new_corrs: Vec<PlannedCorr> = Vec::new();
         let limit = faces.len() + 2 * merged.len() + 4;
         for &start in &starts {

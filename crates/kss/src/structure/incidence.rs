@@ -1,0 +1,247 @@
+//! Which partition triangles and corridors lie on a body, without a scan of
+//! the whole structure: a pop looks for the triangles with a corner at the
+//! popped vertex and the corridors along its body, and a removal for the
+//! triangles and corridors on the removed bodies. A scan of every triangle
+//! and corridor costs `O(k)` per operation; the index answers in time
+//! proportional to the body's share of the structure (amortized).
+//!
+//! The triangles and corridors are kept in [`Slots`], vectors that note which
+//! entries were written (an `IndexMut`, a `push`) since the index last
+//! looked. The index keeps, per body, a list of ids that is a superset of
+//! the triangles (corridors) on it: at a query it first adds each written
+//! entry to the lists of the bodies it is on now, then filters the asked
+//! list down to the entries still on the body. A list never misses an entry
+//! on its body, because an entry can only come onto a body by a write, and
+//! every write is noted. When more writes are noted than the structure has
+//! entries, the notes are dropped and the next query rebuilds the lists in
+//! one scan (so neither the notes nor the lists outgrow the structure).
+
+use std::cell::{Cell, RefCell};
+use std::ops::{Deref, Index, IndexMut};
+
+use super::{Corridor, Obj, PartitionTriangle};
+use crate::world::BodyId;
+
+/// A vector of the structure's triangles or corridors that notes the ids of
+/// the entries written since [`Slots::take_writes`] last took them (module
+/// docs). Reading is through the slice it dereferences to; writing through
+/// `IndexMut`, [`Slots::push`] and [`Slots::truncate`].
+#[derive(Clone, Debug)]
+pub struct Slots<T> {
+    items: Vec<T>,
+    /// Ids written since the notes were last taken.
+    written: RefCell<Vec<u32>>,
+    /// Whether the notes are incomplete (too many writes, or a new vector):
+    /// every entry counts as written.
+    all: Cell<bool>,
+}
+
+impl<T> Default for Slots<T> {
+    fn default() -> Slots<T> {
+        Slots::from(Vec::new())
+    }
+}
+
+impl<T> From<Vec<T>> for Slots<T> {
+    fn from(items: Vec<T>) -> Slots<T> {
+        Slots {
+            items,
+            written: RefCell::new(Vec::new()),
+            all: Cell::new(true),
+        }
+    }
+}
+
+impl<T: PartialEq> PartialEq for Slots<T> {
+    fn eq(&self, other: &Slots<T>) -> bool {
+        self.items == other.items
+    }
+}
+
+impl<T> Deref for Slots<T> {
+    type Target = [T];
+    fn deref(&self) -> &[T] {
+        &self.items
+    }
+}
+
+impl<'a, T> IntoIterator for &'a Slots<T> {
+    type Item = &'a T;
+    type IntoIter = std::slice::Iter<'a, T>;
+    fn into_iter(self) -> std::slice::Iter<'a, T> {
+        self.items.iter()
+    }
+}
+
+impl<T> Index<usize> for Slots<T> {
+    type Output = T;
+    fn index(&self, i: usize) -> &T {
+        &self.items[i]
+    }
+}
+
+impl<T> IndexMut<usize> for Slots<T> {
+    fn index_mut(&mut self, i: usize) -> &mut T {
+        self.note(i);
+        &mut self.items[i]
+    }
+}
+
+impl<T> Slots<T> {
+    fn note(&mut self, i: usize) {
+        if self.all.get() {
+            return;
+        }
+        let w = self.written.get_mut();
+        if w.len() > self.items.len().max(64) {
+            w.clear();
+            self.all.set(true);
+        } else {
+            w.push(i as u32);
+        }
+    }
+
+    /// Append an entry (noted as written).
+    pub fn push(&mut self, x: T) {
+        self.items.push(x);
+        self.note(self.items.len() - 1);
+    }
+
+    /// Keep the first `len` entries.
+    pub fn truncate(&mut self, len: usize) {
+        self.items.truncate(len);
+    }
+
+    /// The entries as a vector.
+    pub fn into_vec(self) -> Vec<T> {
+        self.items
+    }
+
+    /// The ids written since the last call, or `None` if every entry counts
+    /// as written; the notes start again.
+    fn take_writes(&self) -> Option<Vec<u32>> {
+        let all = self.all.replace(false);
+        let w = std::mem::take(&mut *self.written.borrow_mut());
+        (!all).then_some(w)
+    }
+}
+
+/// The bodies an entry lies on.
+trait OnBodies {
+    /// Calls `f` with each body the entry lies on (a body may repeat).
+    fn each_body(&self, f: &mut dyn FnMut(BodyId));
+}
+
+impl OnBodies for PartitionTriangle {
+    fn each_body(&self, f: &mut dyn FnMut(BodyId)) {
+        for c in &self.c {
+            if let Obj::Body(b) = c.obj {
+                f(b);
+            }
+        }
+    }
+}
+
+impl OnBodies for Corridor {
+    fn each_body(&self, f: &mut dyn FnMut(BodyId)) {
+        for o in [self.a, self.b] {
+            if let Obj::Body(b) = o {
+                f(b);
+            }
+        }
+    }
+}
+
+/// Per body, a superset of the ids of the entries of one [`Slots`] that lie
+/// on it (module docs).
+#[derive(Clone, Debug, Default)]
+struct Lists {
+    of: Vec<Vec<u32>>,
+    /// Per body, the length of its list after it was last filtered.
+    clean: Vec<usize>,
+}
+
+impl Lists {
+    fn add(&mut self, b: BodyId, id: u32) {
+        let i = b.index();
+        if i >= self.of.len() {
+            self.of.resize_with(i + 1, Vec::new);
+            self.clean.resize(i + 1, 0);
+        }
+        self.of[i].push(id);
+    }
+
+    /// Bring the lists up to date with the writes to `slots`, then filter
+    /// body `b`'s list down to the entries on it, sorted; returns it.
+    fn on<T: OnBodies>(&mut self, slots: &Slots<T>, b: BodyId) -> Vec<u32> {
+        match slots.take_writes() {
+            None => {
+                self.of.clear();
+                self.clean.clear();
+                for (id, x) in slots.iter().enumerate() {
+                    x.each_body(&mut |b| self.add(b, id as u32));
+                }
+            }
+            Some(ids) => {
+                let mut touched: Vec<BodyId> = Vec::new();
+                for id in ids {
+                    if let Some(x) = slots.get(id as usize) {
+                        x.each_body(&mut |b| {
+                            self.add(b, id);
+                            touched.push(b);
+                        });
+                    }
+                }
+                // (a list that doubled since it was last filtered is
+                // filtered now, so that no list outgrows its body's share)
+                touched.sort_unstable();
+                touched.dedup();
+                for t in touched {
+                    if self.of[t.index()].len() > 2 * self.clean[t.index()].max(16) {
+                        self.filter(slots, t);
+                    }
+                }
+            }
+        }
+        if b.index() >= self.of.len() {
+            return Vec::new();
+        }
+        self.filter(slots, b);
+        self.of[b.index()].clone()
+    }
+
+    fn filter<T: OnBodies>(&mut self, slots: &Slots<T>, b: BodyId) {
+        let list = &mut self.of[b.index()];
+        list.sort_unstable();
+        list.dedup();
+        list.retain(|&id| {
+            slots.get(id as usize).is_some_and(|x| {
+                let mut on = false;
+                x.each_body(&mut |y| on |= y == b);
+                on
+            })
+        });
+        self.clean[b.index()] = list.len();
+    }
+}
+
+/// The index of the triangles and the corridors on each body (module docs).
+#[derive(Clone, Debug, Default)]
+pub struct Incidence {
+    tris: RefCell<Lists>,
+    corrs: RefCell<Lists>,
+}
+
+impl Incidence {
+    /// The ids, in increasing order, of the triangles of `tris` with a
+    /// corner on body `b`.
+    pub fn tris_on(&self, tris: &Slots<PartitionTriangle>, b: BodyId) -> Vec<u32> {
+        self.tris.borrow_mut().on(tris, b)
+    }
+
+    /// The ids, in increasing order, of the corridors of `corrs` with a
+    /// side on body `b`.
+    pub fn corrs_on(&self, corrs: &Slots<Corridor>, b: BodyId) -> Vec<u32> {
+        self.corrs.borrow_mut().on(corrs, b)
+    }
+}
