@@ -321,6 +321,60 @@ impl FacesCache {
     }
 }
 
+/// The number of entries of a [`PointCache`], a power of two.
+const POINTS: usize = 64;
+
+/// One entry of a [`PointCache`]: the key `[body << 32 | id, frame uid,
+/// exposed version]` and the exact moving position.
+type PointEntry = Option<([u64; 3], LinearPoint)>;
+
+/// The exact moving positions of recently used approximation vertices
+/// ([`Geo::point`]): the exact predicates of an event ask for the same
+/// few points, and each is a homogeneous intersection of two lines of the
+/// edge array carried by the frame. Direct-mapped; keyed by everything the
+/// point depends on (the body and id, the frame's [`Frame::uid`] and the
+/// approximation's [`Exposed::version`], both never reused); debug builds
+/// check every hit. One per [`Shapes`]; a clone starts empty.
+pub struct PointCache(std::cell::RefCell<Vec<PointEntry>>);
+
+impl Default for PointCache {
+    fn default() -> PointCache {
+        PointCache(std::cell::RefCell::new(vec![None; POINTS]))
+    }
+}
+
+impl Clone for PointCache {
+    fn clone(&self) -> PointCache {
+        PointCache::default()
+    }
+}
+
+impl std::fmt::Debug for PointCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "PointCache({POINTS} entries)")
+    }
+}
+
+impl PointCache {
+    fn slot(key: &[u64; 3]) -> usize {
+        slot(
+            key[0] ^ key[1].rotate_left(20) ^ key[2].rotate_left(40),
+            POINTS,
+        )
+    }
+
+    fn get(&self, key: &[u64; 3]) -> Option<LinearPoint> {
+        match &self.0.borrow()[Self::slot(key)] {
+            Some((k, p)) if k == key => Some(p.clone()),
+            _ => None,
+        }
+    }
+
+    fn put(&self, key: [u64; 3], p: &LinearPoint) {
+        self.0.borrow_mut()[Self::slot(&key)] = Some((key, p.clone()));
+    }
+}
+
 /// How each body is seen: the real polygon, or an approximation.
 #[derive(Clone, Debug, Default)]
 pub struct Shapes {
@@ -330,6 +384,8 @@ pub struct Shapes {
     pub mids: MidCache,
     /// Recent corridor validity answers ([`super::Kss::faces_valid_on`]).
     pub faces: FacesCache,
+    /// Recent exact positions of approximation vertices ([`Geo::point`]).
+    pub points: PointCache,
     /// Recent visible neighbours of approximation ids.
     pub links: LinkMemo,
 }
@@ -547,11 +603,25 @@ impl<'a> Geo<'a> {
         match self.shapes.approx(b) {
             None => body.vertex(a.v as usize),
             Some(ap) => {
+                let key = [a.word(), body.frame.uid(), ap.exposed.version()];
+                if let Some(p) = self.shapes.points.get(&key) {
+                    debug_assert_eq!(
+                        p,
+                        ap.array
+                            .vertex_of(&body.shape, &ap.exposed, a.v as usize)
+                            .expect("an exposed id with an approximation vertex")
+                            .moving(&body.frame),
+                        "the point cache answers for another point: {a:?}"
+                    );
+                    return p;
+                }
                 let h = ap
                     .array
                     .vertex_of(&body.shape, &ap.exposed, a.v as usize)
                     .expect("an exposed id with an approximation vertex");
-                h.moving(&body.frame)
+                let p = h.moving(&body.frame);
+                self.shapes.points.put(key, &p);
+                p
             }
         }
     }
@@ -783,7 +853,8 @@ impl<'a> Geo<'a> {
             .0
             .at(id ^ uid.rotate_left(20) ^ version.rotate_left(40));
         let (k, m) = cell.get();
-        if k == key {
+        // (word by word: an array comparison would call `memcmp`)
+        if k.iter().zip(&key).fold(0, |d, (x, y)| d | (x ^ y)) == 0 {
             debug_assert_eq!(
                 m,
                 self.enclose_linear(a).and_then(|l| MidRad::at(l, t)),

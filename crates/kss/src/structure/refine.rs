@@ -37,6 +37,7 @@ pub fn coarsest_shapes(world: &World, above: usize) -> Shapes {
             .collect(),
         mids: Default::default(),
         faces: Default::default(),
+        points: Default::default(),
         links: Default::default(),
     }
 }
