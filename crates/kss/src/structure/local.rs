@@ -945,6 +945,13 @@ impl Kss {
         let zero: Vec<usize> = (0..js.len())
             .filter(|&x| {
                 let j = js[x];
+                // (a turn the f64 filter decides at `t` is not zero there)
+                if world
+                    .orient_filtered(j.prev, j.v, j.next, t.interval())
+                    .is_some()
+                {
+                    return false;
+                }
                 let p = crate::motion::orient_poly(
                     &lin(world, j.prev),
                     &lin(world, j.v),
