@@ -15,6 +15,7 @@
 
 use std::sync::Arc;
 
+use super::counters::{bump, Counter};
 use super::faces::turn_after;
 use super::geo::{Approx, Geo, Shapes};
 use super::Att;
@@ -99,13 +100,34 @@ fn on_segment_after(geo: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
 /// are popped until they are real.
 fn involved(
     geo: &Geo,
-    a: BodyId,
-    b: BodyId,
+    (a, b): (BodyId, BodyId),
+    at: Option<crate::num::Interval>,
     sign: &dyn Fn(Att, Att, Att) -> Sign,
     on_segment: Option<&dyn Fn(Att, Att, Att) -> bool>,
 ) -> Option<Vec<Att>> {
     let (pa, pb) = (ring(geo, a), ring(geo, b));
     let real = |x: Att| geo.is_real(x);
+    // (with `at`, each ring's points placed once in f64: a turn the filter
+    // decides there is the sign at and just after the instant)
+    let places = |p: &[Att]| -> Vec<Option<crate::geom::MidRad>> {
+        p.iter()
+            .map(|&x| at.and_then(|t| geo.mid_rad(x, t)))
+            .collect()
+    };
+    let (ma, mb) = (places(&pa), places(&pb));
+    let turn = |(p, mp): (&[Att], &[Option<crate::geom::MidRad>]),
+                i: usize,
+                j: usize,
+                (q, mq): (&[Att], &[Option<crate::geom::MidRad>]),
+                k: usize| {
+        if let (Some(x), Some(y), Some(z)) = (mp[i], mp[j], mq[k]) {
+            bump(Counter::TurnsFiltered);
+            if let Some(s) = crate::geom::orient_mid_rad(x, y, z) {
+                return s;
+            }
+        }
+        sign(p[i], p[j], q[k])
+    };
     // a vertex on an edge's line that may stay there: off the edge, or a
     // real vertex sliding along a real edge
     let zero_ok = |u: Att, v: Att, w: Att| {
@@ -113,30 +135,39 @@ fn involved(
     };
     // an edge of `p` with every vertex of `q` outside, strictly or on its
     // line where allowed
-    let separates = |p: &[Att], q: &[Att]| {
-        (0..p.len()).any(|i| {
-            let (u, v) = (p[i], p[(i + 1) % p.len()]);
-            q.iter().all(|&w| match sign(u, v, w) {
+    let separates = |p: (&[Att], &[Option<crate::geom::MidRad>]),
+                     q: (&[Att], &[Option<crate::geom::MidRad>])| {
+        let n = p.0.len();
+        (0..n).any(|i| {
+            let j = (i + 1) % n;
+            (0..q.0.len()).all(|k| match turn(p, i, j, q, k) {
                 Sign::Negative => true,
-                Sign::Zero => zero_ok(u, v, w),
+                Sign::Zero => zero_ok(p.0[i], p.0[j], q.0[k]),
                 Sign::Positive => false,
             })
         })
     };
-    if separates(&pa, &pb) || separates(&pb, &pa) {
+    let (ra, rb) = ((&pa[..], &ma[..]), (&pb[..], &mb[..]));
+    if separates(ra, rb) || separates(rb, ra) {
         return None;
     }
-    let inside = |p: &[Att], w: Att| {
-        (0..p.len()).all(|i| sign(p[i], p[(i + 1) % p.len()], w) != Sign::Negative)
+    let inside = |p: (&[Att], &[Option<crate::geom::MidRad>]),
+                  q: (&[Att], &[Option<crate::geom::MidRad>]),
+                  k: usize| {
+        let n = p.0.len();
+        (0..n).all(|i| turn(p, i, (i + 1) % n, q, k) != Sign::Negative)
     };
-    let mut out: Vec<Att> = pb
-        .iter()
-        .filter(|&&w| !real(w) && inside(&pa, w))
-        .chain(pa.iter().filter(|&&w| !real(w) && inside(&pb, w)))
-        .copied()
+    let mut out: Vec<Att> = (0..pb.len())
+        .filter(|&k| !real(pb[k]) && inside(ra, rb, k))
+        .map(|k| pb[k])
+        .chain(
+            (0..pa.len())
+                .filter(|&k| !real(pa[k]) && inside(rb, ra, k))
+                .map(|k| pa[k]),
+        )
         .collect();
     if let Some(on) = on_segment {
-        out.extend(sliding(geo, &pa, &pb, sign, on));
+        out.extend(sliding(geo, (&pa, &pb), at, sign, on));
         out.sort();
         out.dedup();
     }
@@ -155,24 +186,53 @@ fn involved(
 /// other that lie on the edge's line with the vertex on the closed edge
 /// (`on_segment`), where not all three are real: an approximation edge
 /// sliding along a vertex, or an approximation vertex sliding along an edge.
+///
+/// With `at` (an enclosure of the instant at or just after which `sign`
+/// is asked), each ring's points are placed once in f64 and a triple whose
+/// turn the filter decides there is skipped: a turn that is not zero at the
+/// instant is not zero just after it either.
 fn sliding(
     geo: &Geo,
-    pa: &[Att],
-    pb: &[Att],
+    (pa, pb): (&[Att], &[Att]),
+    at: Option<crate::num::Interval>,
     sign: &dyn Fn(Att, Att, Att) -> Sign,
     on_segment: &dyn Fn(Att, Att, Att) -> bool,
 ) -> Vec<Att> {
-    let real = |x: Att| geo.is_real(x);
+    let reals = |p: &[Att]| -> Vec<bool> { p.iter().map(|&x| geo.is_real(x)).collect() };
+    let places = |p: &[Att]| -> Vec<Option<crate::geom::MidRad>> {
+        p.iter()
+            .map(|&x| at.and_then(|t| geo.mid_rad(x, t)))
+            .collect()
+    };
+    let (ra, rb) = (reals(pa), reals(pb));
+    let (ma, mb) = (places(pa), places(pb));
     let mut out = Vec::new();
-    for (p, q) in [(pa, pb), (pb, pa)] {
+    for ((p, rp, mp), (q, rq, mq)) in [
+        ((pa, &ra, &ma), (pb, &rb, &mb)),
+        ((pb, &rb, &mb), (pa, &ra, &ma)),
+    ] {
         for i in 0..p.len() {
-            let (u, v) = (p[i], p[(i + 1) % p.len()]);
-            for &w in q {
-                if !(real(u) && real(v) && real(w))
-                    && sign(u, v, w) == Sign::Zero
-                    && on_segment(u, v, w)
-                {
-                    out.extend([u, v, w].into_iter().filter(|&x| !real(x)));
+            let j = (i + 1) % p.len();
+            let (u, v) = (p[i], p[j]);
+            for (k, &w) in q.iter().enumerate() {
+                if rp[i] && rp[j] && rq[k] {
+                    continue;
+                }
+                if let (Some(x), Some(y), Some(z)) = (mp[i], mp[j], mq[k]) {
+                    bump(Counter::TurnsFiltered);
+                    if crate::geom::orient_mid_rad(x, y, z).is_some() {
+                        continue;
+                    }
+                }
+                if sign(u, v, w) == Sign::Zero && on_segment(u, v, w) {
+                    let real = [rp[i], rp[j], rq[k]];
+                    out.extend(
+                        [u, v, w]
+                            .into_iter()
+                            .zip(real)
+                            .filter(|&(_, r)| !r)
+                            .map(|(x, _)| x),
+                    );
                 }
             }
         }
@@ -201,8 +261,8 @@ pub fn unslide_after(
         let geo = Geo { world, shapes };
         let todo = sliding(
             &geo,
-            &ring(&geo, a),
-            &ring(&geo, b),
+            (&ring(&geo, a), &ring(&geo, b)),
+            Some(t.interval()),
             &|u, v, w| turn_after(&geo, u, v, w, t),
             &|u, v, w| on_segment_after(&geo, u, v, w, t),
         );
@@ -230,6 +290,7 @@ fn separate(
     world: &World,
     shapes: &mut Shapes,
     (a, b): (BodyId, BodyId),
+    at: Option<crate::num::Interval>,
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
     on_segment: Option<GeoTest>,
     popper: Popper,
@@ -239,7 +300,7 @@ fn separate(
         let geo = Geo { world, shapes };
         let on = on_segment.map(|f| move |u, v, w| f(&geo, u, v, w));
         let on_ref = on.as_ref().map(|f| f as &dyn Fn(Att, Att, Att) -> bool);
-        let Some(todo) = involved(&geo, a, b, &|u, v, w| sign(&geo, u, v, w), on_ref) else {
+        let Some(todo) = involved(&geo, (a, b), at, &|u, v, w| sign(&geo, u, v, w), on_ref) else {
             return Ok(pops);
         };
         if todo.is_empty() {
@@ -270,6 +331,7 @@ pub fn separate_after(
         world,
         shapes,
         (a, b),
+        Some(t.interval()),
         &|geo, u, v, w| turn_after(geo, u, v, w, t),
         Some(&|geo, u, v, w| on_segment_after(geo, u, v, w, t)),
         popper,
@@ -299,10 +361,17 @@ fn separate_all(
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
 ) -> Result<u64, StructureError> {
     let mut pops = 0;
+    let at = crate::num::Time::from_rational(t.clone()).interval();
     for pair in box_pairs(world, shapes, t) {
-        pops += separate(world, shapes, pair, sign, None, &mut |shapes, x| {
-            Ok(pop(shapes, x))
-        })?;
+        pops += separate(
+            world,
+            shapes,
+            pair,
+            Some(at),
+            sign,
+            None,
+            &mut |shapes, x| Ok(pop(shapes, x)),
+        )?;
     }
     Ok(pops)
 }
@@ -361,7 +430,7 @@ pub fn check_apart(world: &World, shapes: &Shapes, t: &Rational) -> Result<(), S
             let (pu, pv, pw) = (p(u), p(v), p(w));
             pu.sub(&pw).dot(&pv.sub(&pw)).sign() != Sign::Positive
         };
-        if involved(&geo, a, b, &sign, Some(&on_segment)).is_some() {
+        if involved(&geo, (a, b), None, &sign, Some(&on_segment)).is_some() {
             #[cfg(feature = "trace")]
             for id in [a, b] {
                 let pts: Vec<(u32, bool, [f64; 2])> = geo
@@ -464,7 +533,7 @@ mod tests {
                             let p = |x: Att| geo.position(x, &Rational::zero()).unwrap();
                             orient(&p(u), &p(v), &p(w))
                         };
-                        assert!(involved(&geo, a, b, &sign, None).is_none());
+                        assert!(involved(&geo, (a, b), None, &sign, None).is_none());
                     }
                 }
                 check_apart(&world, &shapes, &Rational::zero()).unwrap();
