@@ -337,7 +337,7 @@ impl Kinetic {
         cands.sort_unstable();
         cands.dedup();
         // (two bodies none of whose vertices can be at one place at `now`,
-        // as their vertices' enclosures prove, each pair asked once: a
+        // as their vertices' f64 positions prove, each pair asked once: a
         // corridor between them has only their vertices, and none rests)
         let mut vertex_apart: Vec<((BodyId, BodyId), bool)> = Vec::new();
         let mut out = BTreeSet::new();
@@ -354,16 +354,6 @@ impl Kinetic {
                     vertex_apart.push((key, v));
                     v
                 });
-                static N: [std::sync::atomic::AtomicU64; 2] = [
-                    std::sync::atomic::AtomicU64::new(0),
-                    std::sync::atomic::AtomicU64::new(0),
-                ];
-                N[proved as usize].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if std::env::var_os("KSS_CNT").is_some()
-                    && N[0].load(std::sync::atomic::Ordering::Relaxed) % 1000 == 0
-                {
-                    eprintln!("cnt {:?}", N);
-                }
                 if proved {
                     debug_assert!(
                         self.kss
