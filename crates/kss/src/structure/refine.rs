@@ -19,10 +19,10 @@ use super::counters::{bump, Counter};
 use super::faces::turn_after;
 use super::geo::{Approx, Geo, Shapes};
 use super::Att;
-use crate::geom::orient;
+use crate::geom::{orient, MidRad};
 use crate::hier::EdgeArray;
 use crate::motion::dot_poly;
-use crate::num::{Rational, Sign, Time};
+use crate::num::{Interval, Rational, Sign, Time};
 use crate::structure::StructureError;
 use crate::world::{Body, BodyId, World};
 
@@ -75,6 +75,15 @@ fn ring(geo: &Geo, x: BodyId) -> Vec<Att> {
     geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect()
 }
 
+/// The points of `ring` placed in f64 at a time in `at` ([`Geo::mid_rad`]),
+/// once for the many turns of the refinement's tests (`None` each without
+/// `at`, or where a value is not finite).
+fn places(geo: &Geo, ring: &[Att], at: Option<Interval>) -> Vec<Option<MidRad>> {
+    ring.iter()
+        .map(|&x| at.and_then(|t| geo.mid_rad(x, t)))
+        .collect()
+}
+
 /// Whether `w`, collinear with `u` and `v` just after `t`, lies on the
 /// closed segment `uv` just after `t` (filtered, then exact).
 fn on_segment_after(geo: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
@@ -101,7 +110,7 @@ fn on_segment_after(geo: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
 fn involved(
     geo: &Geo,
     (a, b): (BodyId, BodyId),
-    at: Option<crate::num::Interval>,
+    at: Option<Interval>,
     sign: &dyn Fn(Att, Att, Att) -> Sign,
     on_segment: Option<&dyn Fn(Att, Att, Att) -> bool>,
 ) -> Option<Vec<Att>> {
@@ -109,16 +118,11 @@ fn involved(
     let real = |x: Att| geo.is_real(x);
     // (with `at`, each ring's points placed once in f64: a turn the filter
     // decides there is the sign at and just after the instant)
-    let places = |p: &[Att]| -> Vec<Option<crate::geom::MidRad>> {
-        p.iter()
-            .map(|&x| at.and_then(|t| geo.mid_rad(x, t)))
-            .collect()
-    };
-    let (ma, mb) = (places(&pa), places(&pb));
-    let turn = |(p, mp): (&[Att], &[Option<crate::geom::MidRad>]),
+    let (ma, mb) = (places(geo, &pa, at), places(geo, &pb, at));
+    let turn = |(p, mp): (&[Att], &[Option<MidRad>]),
                 i: usize,
                 j: usize,
-                (q, mq): (&[Att], &[Option<crate::geom::MidRad>]),
+                (q, mq): (&[Att], &[Option<MidRad>]),
                 k: usize| {
         if let (Some(x), Some(y), Some(z)) = (mp[i], mp[j], mq[k]) {
             bump(Counter::TurnsFiltered);
@@ -135,8 +139,7 @@ fn involved(
     };
     // an edge of `p` with every vertex of `q` outside, strictly or on its
     // line where allowed
-    let separates = |p: (&[Att], &[Option<crate::geom::MidRad>]),
-                     q: (&[Att], &[Option<crate::geom::MidRad>])| {
+    let separates = |p: (&[Att], &[Option<MidRad>]), q: (&[Att], &[Option<MidRad>])| {
         let n = p.0.len();
         (0..n).any(|i| {
             let j = (i + 1) % n;
@@ -151,9 +154,7 @@ fn involved(
     if separates(ra, rb) || separates(rb, ra) {
         return None;
     }
-    let inside = |p: (&[Att], &[Option<crate::geom::MidRad>]),
-                  q: (&[Att], &[Option<crate::geom::MidRad>]),
-                  k: usize| {
+    let inside = |p: (&[Att], &[Option<MidRad>]), q: (&[Att], &[Option<MidRad>]), k: usize| {
         let n = p.0.len();
         (0..n).all(|i| turn(p, i, (i + 1) % n, q, k) != Sign::Negative)
     };
@@ -167,7 +168,7 @@ fn involved(
         )
         .collect();
     if let Some(on) = on_segment {
-        out.extend(sliding(geo, (&pa, &pb), at, sign, on));
+        out.extend(sliding(geo, (&pa, &ma), (&pb, &mb), sign, on));
         out.sort();
         out.dedup();
     }
@@ -187,29 +188,23 @@ fn involved(
 /// (`on_segment`), where not all three are real: an approximation edge
 /// sliding along a vertex, or an approximation vertex sliding along an edge.
 ///
-/// With `at` (an enclosure of the instant at or just after which `sign`
-/// is asked), each ring's points are placed once in f64 and a triple whose
-/// turn the filter decides there is skipped: a turn that is not zero at the
-/// instant is not zero just after it either.
+/// Each ring comes with its points placed in f64 at the instant at or just
+/// after which `sign` is asked ([`places`]); a triple whose turn the filter
+/// decides there is skipped: a turn that is not zero at the instant is not
+/// zero just after it either.
 fn sliding(
     geo: &Geo,
-    (pa, pb): (&[Att], &[Att]),
-    at: Option<crate::num::Interval>,
+    (pa, ma): (&[Att], &[Option<MidRad>]),
+    (pb, mb): (&[Att], &[Option<MidRad>]),
     sign: &dyn Fn(Att, Att, Att) -> Sign,
     on_segment: &dyn Fn(Att, Att, Att) -> bool,
 ) -> Vec<Att> {
     let reals = |p: &[Att]| -> Vec<bool> { p.iter().map(|&x| geo.is_real(x)).collect() };
-    let places = |p: &[Att]| -> Vec<Option<crate::geom::MidRad>> {
-        p.iter()
-            .map(|&x| at.and_then(|t| geo.mid_rad(x, t)))
-            .collect()
-    };
     let (ra, rb) = (reals(pa), reals(pb));
-    let (ma, mb) = (places(pa), places(pb));
     let mut out = Vec::new();
     for ((p, rp, mp), (q, rq, mq)) in [
-        ((pa, &ra, &ma), (pb, &rb, &mb)),
-        ((pb, &rb, &mb), (pa, &ra, &ma)),
+        ((pa, &ra, ma), (pb, &rb, mb)),
+        ((pb, &rb, mb), (pa, &ra, ma)),
     ] {
         for i in 0..p.len() {
             let j = (i + 1) % p.len();
@@ -259,10 +254,12 @@ pub fn unslide_after(
     let mut pops = 0;
     loop {
         let geo = Geo { world, shapes };
+        let (pa, pb) = (ring(&geo, a), ring(&geo, b));
+        let at = Some(t.interval());
         let todo = sliding(
             &geo,
-            (&ring(&geo, a), &ring(&geo, b)),
-            Some(t.interval()),
+            (&pa, &places(&geo, &pa, at)),
+            (&pb, &places(&geo, &pb, at)),
             &|u, v, w| turn_after(&geo, u, v, w, t),
             &|u, v, w| on_segment_after(&geo, u, v, w, t),
         );
@@ -290,7 +287,7 @@ fn separate(
     world: &World,
     shapes: &mut Shapes,
     (a, b): (BodyId, BodyId),
-    at: Option<crate::num::Interval>,
+    at: Option<Interval>,
     sign: &dyn Fn(&Geo, Att, Att, Att) -> Sign,
     on_segment: Option<GeoTest>,
     popper: Popper,
