@@ -267,11 +267,21 @@ type FacesEntry = Option<(FacesKey, Time, bool, Option<super::local::Certs>)>;
 /// (`Time::is_known_same`: the same exact value or the same deferred
 /// root, never forced), since two instants can share an enclosure. One
 /// per [`Shapes`]; a clone starts empty.
-pub struct FacesCache(std::cell::RefCell<Vec<FacesEntry>>);
+///
+/// An answer read on one side of an instant is also kept for the other
+/// side when no sign it read depended on the side: every turn and every
+/// dot product was decided by the f64 filters on an enclosure of the
+/// instant itself, so it is the sign at the instant and on both sides of
+/// it ([`FacesCache::exact_reads`] counts the others). A pop checks its
+/// corridors just before the instant and normalizes them just after it.
+pub struct FacesCache(std::cell::RefCell<Vec<FacesEntry>>, std::cell::Cell<u64>);
 
 impl Default for FacesCache {
     fn default() -> FacesCache {
-        FacesCache(std::cell::RefCell::new(vec![None; FACES]))
+        FacesCache(
+            std::cell::RefCell::new(vec![None; FACES]),
+            std::cell::Cell::new(0),
+        )
     }
 }
 
@@ -318,6 +328,19 @@ impl FacesCache {
     /// certificates read off the faces where the answer is `true`.
     pub(crate) fn put(&self, key: FacesKey, t: &Time, v: bool, certs: Option<super::local::Certs>) {
         self.0.borrow_mut()[Self::slot(&key)] = Some((key, t.clone(), v, certs));
+    }
+
+    /// How many signs were read on one side of an instant past the f64
+    /// filters so far ([`super::local::turn_on`] and
+    /// [`super::local::between_on`]): a validity computed while this
+    /// count stays the same read only signs at the instant itself.
+    pub(crate) fn exact_reads(&self) -> u64 {
+        self.1.get()
+    }
+
+    /// Count one sign read past the filters ([`FacesCache::exact_reads`]).
+    pub(crate) fn note_exact_read(&self) {
+        self.1.set(self.1.get().wrapping_add(1));
     }
 }
 

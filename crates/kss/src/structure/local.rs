@@ -112,6 +112,7 @@ pub fn turn_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sig
     if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
         return s;
     }
+    world.shapes.faces.note_exact_read();
     match side {
         Side::After => turn_after(world, u, v, w, t),
         Side::Before => world.memo_turn([u, v, w], t, false, || {
@@ -137,6 +138,7 @@ pub fn between_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> 
     if let Some(s) = world.dot_filtered(u, v, w, t.interval()) {
         return s == Sign::Negative;
     }
+    world.shapes.faces.note_exact_read();
     let d = dot_poly(&lin(world, v), &lin(world, u), &lin(world, w));
     let s = match side {
         Side::After => d.sign_after(t),
@@ -428,9 +430,21 @@ impl Kss {
             );
             return v;
         }
-        let mut certs = (side == Side::After && !self.held.contains_key(&k)).then(Certs::new);
+        let mut certs = (!self.held.contains_key(&k)).then(Certs::new);
+        let reads = world.shapes.faces.exact_reads();
         let v = self.faces_valid_core(world, k, mid, (t, side), &sign, true, &mut certs);
-        world.shapes.faces.put(key, t, v, certs.filter(|_| v));
+        let certs = certs.filter(|_| v);
+        if side == Side::Before {
+            // (every sign read at the instant itself, none beside it: the
+            // same answer and certificates just after it)
+            if world.shapes.faces.exact_reads() == reads {
+                let after = self.faces_key(world, k, mid, (t, Side::After));
+                world.shapes.faces.put(after, t, v, certs);
+            }
+            world.shapes.faces.put(key, t, v, None);
+        } else {
+            world.shapes.faces.put(key, t, v, certs);
+        }
         v
     }
 
