@@ -54,7 +54,10 @@ type Corner = (Junction, Option<Att>);
 
 /// The certificates of one owner: a corridor's corners (four per face at
 /// most) or hull turns, a triangle's orientation.
-pub type Certs = ArrayVec<Cert, 8>;
+pub type Certs = ArrayVec<Cert, MAX_CERTS>;
+
+/// The most certificates one owner has ([`Certs`]).
+pub const MAX_CERTS: usize = 8;
 
 /// The junctions of one face: two per chain piece at most.
 type FaceJunctions = ArrayVec<Junction, 4>;

@@ -10,7 +10,7 @@ use crate::motion::{orient_poly, LinearPoint};
 use crate::num::{
     filtered_failure, filtered_root, ExactTime, Filtered, Interval, Poly, Sign, Time,
 };
-use crate::sim::EventKey;
+use crate::sim::{EventKey, EventQueue};
 use crate::structure::certs::Cert;
 use crate::structure::geo::{Geo, PointRef};
 use crate::structure::ops::Owner;
@@ -18,8 +18,10 @@ use crate::structure::StructureError;
 use crate::structure::{Att, CorrId, Obj, TriId};
 use crate::world::BodyId;
 
+use super::instant::InstantState;
 use super::step::each_body;
 use super::{due_time, fingerprint, Fingerprint, Kinetic, Scheduled};
+use crate::structure::local::MAX_CERTS;
 
 /// The certificate function of `c`, oriented so that it is positive while
 /// the certificate holds.
@@ -274,6 +276,24 @@ pub(super) fn bridge_end<'a>(world: &'a Geo, p: &[Att; 3]) -> Option<&'a Time> {
         .min()
 }
 
+/// [`Kinetic::due_now`] on the queue and the instant's state alone (a
+/// certificate of the book may be borrowed meanwhile).
+fn due_in(
+    queue: &EventQueue<Time, [Att; 3]>,
+    instant: &InstantState,
+    p: &[Att; 3],
+    key: Option<EventKey>,
+    now: &Time,
+) -> bool {
+    match key {
+        Some(k) => queue.get(k).is_some_and(|(t, _)| t == now),
+        None => {
+            instant.waiting.contains(p)
+                || instant.later.as_ref().is_some_and(|(_, ps)| ps.contains(p))
+        }
+    }
+}
+
 impl Kinetic {
     pub(super) fn schedule_everything(
         &mut self,
@@ -318,22 +338,30 @@ impl Kinetic {
         // have just after `now` would swallow the failure when two fail at
         // one instant and the operation for the first touches the second
         let mut pending: BTreeMap<[Att; 3], Cert> = BTreeMap::new();
-        let mut kept: Vec<[Att; 3]> = Vec::new();
+        // `same[i]`: `fresh[i]` is a certificate that `o` owns already, as
+        // it is, either shared with another owner or not due at this
+        // instant: it keeps its place in the queue (its failure time
+        // depends only on its points) and its owners, `o` again last
+        let mut same = [false; MAX_CERTS];
         for p in &old {
             let Some(s) = self.certs.get_mut(p) else {
                 continue;
             };
+            let shared = s.owners.iter().any(|&x| x != o);
             s.owners.retain(|&x| x != o);
+            if let Some(i) = fresh.iter().position(|c| *c == s.cert) {
+                if shared
+                    || !(self.instant.handling == Some(*p)
+                        || due_in(&self.queue, &self.instant, p, s.key, now))
+                {
+                    s.owners.push(o);
+                    same[i] = true;
+                    continue;
+                }
+            }
             if s.owners.is_empty() {
                 let (cert, key) = (s.cert, s.key);
                 let due = self.instant.handling == Some(*p) || self.due_now(p, key, now);
-                if !due && fresh.contains(&cert) {
-                    // the same certificate again, not due at this instant:
-                    // it keeps its place in the queue (its failure time
-                    // depends only on its points) and is owned again below
-                    kept.push(*p);
-                    continue;
-                }
                 if self.instant.handling != Some(*p) && due {
                     let s = &self.certs[p];
                     let at = due_time(&self.queue, key, &s.popped);
@@ -344,8 +372,16 @@ impl Kinetic {
                 self.drop_cert(p);
             }
         }
+        let kept: arrayvec::ArrayVec<[Att; 3], MAX_CERTS> = (fresh.iter().zip(same))
+            .filter(|(_, same)| *same)
+            .map(|(c, _)| c.p)
+            .collect();
         let mut mine = Vec::with_capacity(fresh.len());
-        for c in fresh {
+        for (c, same) in fresh.into_iter().zip(same) {
+            if same {
+                mine.push(c.p);
+                continue;
+            }
             let c = match pending.get(&c.p) {
                 Some(old) if old.sign != c.sign => *old,
                 _ => c,
@@ -363,11 +399,15 @@ impl Kinetic {
                             "contradictory certificates on {:?} ({:?} and {:?})",
                             c.p, s.owners, o
                         );
-                        // no owner list names the certificates kept above
-                        // any more: they go, as they did before keeping
+                        // no owner list names `o`'s certificates kept above
+                        // any more: `o` leaves them, and those left
+                        // without an owner go
                         for p in &kept {
-                            if self.certs.get(p).is_some_and(|s| s.owners.is_empty()) {
-                                self.drop_cert(p);
+                            if let Some(s) = self.certs.get_mut(p) {
+                                s.owners.retain(|&x| x != o);
+                                if s.owners.is_empty() {
+                                    self.drop_cert(p);
+                                }
                             }
                         }
                         return Err(StructureError::Local(e));
@@ -421,7 +461,7 @@ impl Kinetic {
             Scheduled {
                 cert: c,
                 key,
-                owners: vec![o],
+                owners: super::Owners::one(o),
                 fp,
                 popped: None,
                 idle: false,
@@ -434,17 +474,7 @@ impl Kinetic {
     /// failing certificate is always one of these, so the exact test need not
     /// run for the others (most of the certificates an operation replaces).
     pub(super) fn due_now(&self, p: &[Att; 3], key: Option<EventKey>, now: &Time) -> bool {
-        match key {
-            Some(k) => self.queue.get(k).is_some_and(|(t, _)| t == now),
-            None => {
-                self.instant.waiting.contains(p)
-                    || self
-                        .instant
-                        .later
-                        .as_ref()
-                        .is_some_and(|(_, ps)| ps.contains(p))
-            }
-        }
+        due_in(&self.queue, &self.instant, p, key, now)
     }
 
     pub(super) fn drop_cert(&mut self, p: &[Att; 3]) {
@@ -563,7 +593,7 @@ impl Kinetic {
     pub(super) fn rename(&mut self, ps: &[[Att; 3]], from: Owner, to: Owner) {
         for p in ps {
             if let Some(s) = self.certs.get_mut(p) {
-                for x in &mut s.owners {
+                for x in s.owners.iter_mut() {
                     if *x == from {
                         *x = to;
                     }

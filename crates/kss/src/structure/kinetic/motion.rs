@@ -109,7 +109,7 @@ impl Kinetic {
             let lp = |a: Att| world.point(a);
             let zero = undecided && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
             if s.cert.kind == crate::structure::certs::CertKind::Order {
-                let owners: Vec<Owner> = s.owners.clone();
+                let owners: Vec<Owner> = s.owners.to_vec();
                 // an order certificate whose three points leave their common
                 // line is a turn again (unless it fails now: two of its points
                 // meet, an event of this instant that recomputes its owners'
@@ -144,7 +144,7 @@ impl Kinetic {
                 // is now zero for ever) is no longer a failure: its owners get
                 // their certificates anew (an order certificate for that
                 // triple)
-                let owners: Vec<Owner> = s.owners.clone();
+                let owners: Vec<Owner> = s.owners.to_vec();
                 self.instant.handling = Some(p);
                 for o in owners {
                     if matches!(o, Owner::Corr(_)) {
@@ -273,7 +273,7 @@ impl Kinetic {
             if turn.is_zero() || turn.sign_at(now) != Sign::Zero {
                 continue;
             }
-            for o in &s.owners {
+            for o in s.owners.iter() {
                 if let Owner::Corr(k) = *o {
                     if self.kss.corrs[k.0 as usize].b != Obj::Omega {
                         out.insert(k);
