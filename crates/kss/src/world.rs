@@ -848,6 +848,40 @@ impl World {
         self.contact(a, b, t).map(|c| c.normal)
     }
 
+    /// The reference's rule for bodies `a` and `b` that the structure
+    /// finds touching at `t`, decided on their contact ([`World::contact`],
+    /// which the collision's point and response ask for next), without a
+    /// contact interval: where `d = pos_a − pos_b` lies on the boundary of
+    /// `M = B ⊕ (−A)`, the contact begins at `t` (`d` was outside `M` just
+    /// before) iff the pair approaches along one of the active edges'
+    /// normals, and after a response at `t` (`answered`) the interiors
+    /// overlap just after `t` iff it approaches along all of them. `None`
+    /// where `d` is not on the boundary and `answered` is set (the caller
+    /// asks the contact interval).
+    pub(crate) fn touch_collides(
+        &self,
+        a: BodyId,
+        b: BodyId,
+        t: &Rational,
+        answered: bool,
+    ) -> Option<bool> {
+        let Some(c) = self.contact(a, b, t) else {
+            // (apart, or already overlapping: no contact begins at `t`)
+            return (!answered).then_some(false);
+        };
+        let rel = self
+            .body(b)
+            .traj
+            .velocity()
+            .sub(self.body(a).traj.velocity());
+        let approaches = |m: &Point| rel.dot(m).sign() == Sign::Negative;
+        Some(if answered {
+            c.edge_normals.iter().all(approaches)
+        } else {
+            c.edge_normals.iter().any(approaches)
+        })
+    }
+
     fn contact(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
         let key = (a, b, self.body(a).frame.uid(), self.body(b).frame.uid());
         let mut memo = self

@@ -1026,11 +1026,27 @@ fn reference_collides(
     let Some(r) = t.as_rational() else {
         return true;
     };
-    let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
     let answered = responded.as_ref().is_some_and(|(rt, pairs, moved)| {
         rt == t
             && (pairs.contains(&(a.min(b), a.max(b))) || moved.contains(&a) || moved.contains(&b))
     });
+    if let Some(collides) = world.touch_collides(a, b, r, answered) {
+        #[cfg(debug_assertions)]
+        {
+            let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
+            let by_interval = if answered {
+                interval.next_contact(r).as_ref() == Some(r)
+            } else {
+                matches!(interval, crate::brute::ContactInterval::During { start: Some(s), .. } if s == *r)
+            };
+            debug_assert_eq!(
+                collides, by_interval,
+                "the contact's rule differs from the contact interval's for {a:?}, {b:?} at {r}"
+            );
+        }
+        return collides;
+    }
+    let interval = crate::brute::contact_interval(world, a, b, PairMethod::Fast);
     if answered {
         return interval.next_contact(r).as_ref() == Some(r);
     }
