@@ -7,7 +7,7 @@
 use std::cmp::Ordering;
 use std::fmt;
 
-use dashu_base::{BitTest, Gcd};
+use dashu_base::{BitTest, DivRem, Gcd};
 
 use super::{Int, Interval, Sign};
 
@@ -262,6 +262,14 @@ impl Rational {
         }
         let nb = self.num.bit_len() as i64;
         let db = self.den.bit_len() as i64;
+        if nb <= 127 && self.den.trailing_zeros() == Some(db as usize - 1) {
+            // a dyadic value (most trajectories are): the numerator rounded
+            // once (`u128 as f64` rounds correctly), then scaled by the
+            // power of two exactly
+            let n = i128::try_from(&self.num).expect("at most 127 bits");
+            let v = scale_pow2(n.unsigned_abs() as f64, 1 - db);
+            return if n < 0 { -v } else { v };
+        }
         let s = 66 - (nb - db);
         let n = if self.num < Int::ZERO {
             -self.num.clone()
@@ -273,7 +281,7 @@ impl Rational {
         } else {
             (n, &self.den << (-s) as usize)
         };
-        let (mut q, r) = (&num / &den, &num % &den);
+        let (mut q, r) = (&num).div_rem(&den);
         if !r.is_zero() {
             q |= Int::ONE; // sticky bit, far below the rounding position
         }
@@ -433,6 +441,28 @@ mod tests {
         let one = Int::ONE << 60;
         let tie_plus = Rational::new((&one << 53) + (&one << 0) + Int::ONE, &one << 53);
         assert_eq!(tie_plus.to_f64(), 1.0 + f64::EPSILON);
+    }
+
+    /// A dyadic value (its denominator a power of two) rounds as the
+    /// same value with a denominator that is not one.
+    #[test]
+    fn dyadic_values_round_as_any_other() {
+        let nums = [
+            Int::from(1),
+            Int::from(-3),
+            (Int::ONE << 60) + Int::ONE,
+            -((Int::ONE << 100) + (Int::ONE << 47) + Int::ONE),
+            (Int::ONE << 126) - Int::ONE,
+            (Int::ONE << 120) + (Int::ONE << 67),
+        ];
+        for n in &nums {
+            for k in [0usize, 1, 52, 64, 200, 1000] {
+                let d = Int::ONE << k;
+                let dyadic = Rational::new(n.clone(), d.clone());
+                let other = Rational::quotient_to_f64(n * Int::from(3), d * Int::from(3));
+                assert_eq!(dyadic.to_f64(), other, "{n} / 2^{k}");
+            }
+        }
     }
 
     #[test]
