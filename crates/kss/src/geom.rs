@@ -1466,9 +1466,14 @@ pub(crate) struct EdgeSideFilter {
 impl EdgeSideFilter {
     /// The filter for relative position `d` and exponent `exp`.
     pub(crate) fn new(d: &Point, exp: i64) -> EdgeSideFilter {
+        EdgeSideFilter::of_intervals(d.x.interval(), d.y.interval(), exp)
+    }
+
+    /// The filter for a relative position enclosed by `dx` and `dy`.
+    pub(crate) fn of_intervals(dx: Interval, dy: Interval, exp: i64) -> EdgeSideFilter {
         EdgeSideFilter {
-            dx: d.x.interval(),
-            dy: d.y.interval(),
+            dx,
+            dy,
             unit: (-1000..=1000)
                 .contains(&exp)
                 .then(|| Interval::point(2f64.powi(exp as i32))),

@@ -933,8 +933,10 @@ impl World {
 
     fn contact_fresh(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
         let (ba, bb) = (self.body(a), self.body(b));
-        // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A)
-        let d = ba.traj.position_at(t).sub(&bb.traj.position_at(t));
+        // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A), as
+        // fractions xn / xd and yn / yd that are not reduced (no gcd)
+        let [(xn, xd), (yn, yd)] = relative_position(&ba.traj, &bb.traj, t);
+        let (xn, xd, yn, yd) = (&xn, &xd, &yn, &yd);
         let mut active: Vec<(Int, Int)> = Vec::new();
         let mut features = Vec::new();
         let mut outside = false;
@@ -942,8 +944,6 @@ impl World {
         let (edges, exp) = (&mink.0, mink.1);
         // d · n against h · 2^exp in integers: both sides times the positive
         // xd · yd · 2^max(−exp, 0) (no rational arithmetic, no gcd per edge)
-        let (xn, xd) = (d.x.numer(), d.x.denom());
-        let (yn, yd) = (d.y.numer(), d.y.denom());
         let den = xd * yd;
         let (lshift, rshift) = if exp < 0 {
             ((-exp) as usize, 0)
@@ -952,7 +952,11 @@ impl World {
         };
         // (on enclosures first: only the edges that `d` may lie on, the
         // active ones, are compared exactly)
-        let side = crate::geom::EdgeSideFilter::new(&d, exp);
+        let side = crate::geom::EdgeSideFilter::of_intervals(
+            crate::num::quotient_interval(xn, xd),
+            crate::num::quotient_interval(yn, yd),
+            exp,
+        );
         for e in edges {
             match side.of(e) {
                 Some(std::cmp::Ordering::Less) => continue,
@@ -1089,6 +1093,25 @@ impl World {
 /// from the exact ratio of the areas, the normal's direction from the
 /// exact ratio of its coordinates, and the velocities scaled by a power of
 /// two; a result beyond the doubles' range saturates at `±f64::MAX`.
+/// `pos_a − pos_b` at `t` for bodies moving along `ta` and `tb`, each
+/// coordinate as a fraction `(numerator, denominator)` with a positive
+/// denominator, not reduced: `o + v·t` over `od · vd · td`, then the
+/// difference over the product of the two denominators.
+fn relative_position(ta: &Trajectory, tb: &Trajectory, t: &Rational) -> [(Int, Int); 2] {
+    let (tn, td) = (t.numer(), t.denom());
+    let at = |o: &Rational, v: &Rational| -> (Int, Int) {
+        let (on, od, vn, vd) = (o.numer(), o.denom(), v.numer(), v.denom());
+        (on * vd * td + vn * tn * od, od * vd * td)
+    };
+    let coord = |i: usize| {
+        let pick = |p: &Point| if i == 0 { p.x.clone() } else { p.y.clone() };
+        let (na, da) = at(&pick(ta.origin()), &pick(ta.velocity()));
+        let (nb, db) = at(&pick(tb.origin()), &pick(tb.velocity()));
+        (&na * &db - &nb * &da, da * db)
+    };
+    [coord(0), coord(1)]
+}
+
 fn impulse(
     ba: &Body,
     bb: &Body,

@@ -22,6 +22,7 @@ mod time;
 pub use dashu_int::IBig as Int;
 pub use interval::Interval;
 pub use poly::{filtered_failure, filtered_root, Filtered, Poly};
+pub(crate) use rational::quotient_interval;
 pub use rational::{decompose_f64, Rational};
 pub use time::{ExactTime, Time};
 

@@ -195,13 +195,8 @@ impl Rational {
 
     /// A rigorous f64 enclosure.
     pub fn interval(&self) -> Interval {
-        let n = Interval::of_int(&self.num);
-        let d = Interval::of_int(&self.den);
-        if n.is_finite() && d.is_finite() && d.lo > 0.0 {
-            let q = n / d;
-            if q.is_finite() && (q.lo.abs() > f64::MIN_POSITIVE || q.lo == 0.0 && q.hi == 0.0) {
-                return q;
-            }
+        if let Some(q) = quotient_enclosure(&self.num, &self.den) {
+            return q;
         }
         // Large or tiny values: scale to a 64-bit quotient.
         let x = self.to_f64_slow();
@@ -305,6 +300,28 @@ impl Rational {
             q
         }
     }
+}
+
+/// The quotient of the enclosures of `num` and `den > 0`, where both are
+/// finite and the quotient is finite and normal (or exactly zero).
+fn quotient_enclosure(num: &Int, den: &Int) -> Option<Interval> {
+    let n = Interval::of_int(num);
+    let d = Interval::of_int(den);
+    if n.is_finite() && d.is_finite() && d.lo > 0.0 {
+        let q = n / d;
+        if q.is_finite() && (q.lo.abs() > f64::MIN_POSITIVE || q.lo == 0.0 && q.hi == 0.0) {
+            return Some(q);
+        }
+    }
+    None
+}
+
+/// A rigorous f64 enclosure of `num / den` (`den > 0`) without reducing
+/// the fraction: the quotient of the two integers' enclosures, or the
+/// whole line where that is not finite and normal (a filter on it then
+/// decides nothing).
+pub(crate) fn quotient_interval(num: &Int, den: &Int) -> Interval {
+    quotient_enclosure(num, den).unwrap_or(Interval::ENTIRE)
 }
 
 /// `x · 2^e` without intermediate overflow or underflow where avoidable.
