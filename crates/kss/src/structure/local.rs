@@ -157,14 +157,53 @@ pub fn between_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> 
 /// (the intersection of the two left half-planes at a convex junction, their
 /// union at a reflex one, one half-plane at a straight one).
 fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> bool {
+    junction_clear_placed(world, j, s, (t, side), &Placed::of(world, j, t))
+}
+
+/// A junction's five points (its vertex, the vertex's two neighbours on
+/// its polygon, the junction's two other points) and their midpoints and
+/// radii at an instant, placed once for the junction's own turn and its
+/// clearance ([`junction_clear`]).
+struct Placed {
+    pts: [Att; 5],
+    mids: [Option<crate::geom::MidRad>; 5],
+}
+
+impl Placed {
+    fn of(world: &Geo, j: &Junction, t: &Time) -> Placed {
+        let v = j.v;
+        let pts = [v, step_ccw(world, v), step_cw(world, v, 1), j.prev, j.next];
+        let tiv = t.interval();
+        Placed {
+            pts,
+            mids: pts.map(|a| world.mid_rad(a, tiv)),
+        }
+    }
+
+    /// The junction's turn `(prev, v, next)` where the midpoint–radius
+    /// filter decides it (as [`Geo::orient_filtered`] does first).
+    fn turn(&self) -> Option<Sign> {
+        let [v, _, _, p, n] = self.mids;
+        let s = crate::geom::orient_mid_rad(p?, v?, n?)?;
+        super::counters::bump(super::counters::Counter::TurnsFiltered);
+        Some(s)
+    }
+}
+
+/// [`junction_clear`] with the junction's points placed.
+fn junction_clear_placed(
+    world: &Geo,
+    j: &Junction,
+    s: Sign,
+    (t, side): (&Time, Side),
+    placed: &Placed,
+) -> bool {
     let v = j.v;
-    let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
     // each of the five points enclosed once (midpoint and radius) for the
     // up to eight turns below; the interval filter and the exact turn only
     // where that does not decide
-    let tiv = t.interval();
-    let pts = [v, up, down, j.prev, j.next];
-    let mids = pts.map(|a| world.mid_rad(a, tiv));
+    let Placed { pts, mids } = placed;
+    let [_, up, down, _, _] = *pts;
     let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| mids[i]);
     let tn = |a: Att, b: Att, c: Att| {
         if let (Some(ea), Some(eb), Some(ec)) = (at(a), at(b), at(c)) {
@@ -570,7 +609,17 @@ impl Kss {
                 if rest.is_some() && j.prev == j.next {
                     return false;
                 }
-                let s = sign(j);
+                // (with `clear`, the sign is the turn on `side` of `t`:
+                // the junction's points are placed once for the filter of
+                // that turn and for its clearance)
+                let placed = clear.then(|| Placed::of(world, j, t));
+                let s = match placed.as_ref().and_then(Placed::turn) {
+                    Some(s) => {
+                        debug_assert_eq!(s, sign(j), "the placed turn of {j:?} is not its sign");
+                        s
+                    }
+                    None => sign(j),
+                };
                 all_zero &= s == Sign::Zero;
                 if s == Sign::Zero {
                     *certs = None;
@@ -598,8 +647,10 @@ impl Kss {
                 // wraps around a vertex); not checked when some signs are
                 // held against the motion (the geometry just after the
                 // instant is the failing one until those are handled)
-                if clear && !junction_clear(world, j, s, t, side) {
-                    return false;
+                if let Some(placed) = &placed {
+                    if !junction_clear_placed(world, j, s, (t, side), placed) {
+                        return false;
+                    }
                 }
                 match s {
                     Sign::Positive => convex += 1,
