@@ -857,7 +857,10 @@ impl World {
     /// normals, and after a response at `t` (`answered`) the interiors
     /// overlap just after `t` iff it approaches along all of them. `None`
     /// where `d` is not on the boundary and `answered` is set (the caller
-    /// asks the contact interval).
+    /// asks the contact interval). The rule is symmetric in `a` and `b`;
+    /// the contact is asked for in the order of the polygons' ids, the
+    /// order in which a collision is reported and responded to, so that
+    /// its point and response find it in the memo.
     pub(crate) fn touch_collides(
         &self,
         a: BodyId,
@@ -865,6 +868,11 @@ impl World {
         t: &Rational,
         answered: bool,
     ) -> Option<bool> {
+        let (a, b) = if self.body(a).id.as_bytes() <= self.body(b).id.as_bytes() {
+            (a, b)
+        } else {
+            (b, a)
+        };
         let Some(c) = self.contact(a, b, t) else {
             // (apart, or already overlapping: no contact begins at `t`)
             return (!answered).then_some(false);
