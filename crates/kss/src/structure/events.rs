@@ -195,11 +195,26 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
         (x.obj == y.obj && z.obj != x.obj && poly_edge(world, x, y)).then_some((z, x))
     })?;
     let near = |a: Att| [world.cw(a, 1), a, world.ccw(a)];
+    // (the six points placed once for the midpoint–radius filter of the
+    // twelve turns below, which `Geo::orient_filtered` would place again
+    // for each)
+    let pts: [Att; 6] = {
+        let (nz, nx) = (near(z), near(x));
+        [nz[0], nz[1], nz[2], nx[0], nx[1], nx[2]]
+    };
+    let mids = pts.map(|a| world.mid_rad(a, tiv));
+    let mid = |a: Att| pts.iter().position(|&q| q == a).and_then(|i| mids[i]);
     // exact signs at `t` from the moving points' integer polynomials (no
     // rational positions: no gcd); `None` where they are needed at an
     // irrational `t` (the rationality of a deferred event time is asked
     // only there: it computes the time)
     let touches = |u: Att, e0: Att, e1: Att| -> Option<bool> {
+        if let (Some(m0), Some(m1), Some(mu)) = (mid(e0), mid(e1), mid(u)) {
+            if crate::geom::orient_mid_rad(m0, m1, mu).is_some() {
+                super::counters::bump(super::counters::Counter::TurnsFiltered);
+                return Some(false);
+            }
+        }
         if world.orient_filtered(e0, e1, u, tiv).is_some() {
             return Some(false);
         }
