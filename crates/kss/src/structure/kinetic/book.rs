@@ -276,6 +276,22 @@ pub(super) fn bridge_end<'a>(world: &'a Geo, p: &[Att; 3]) -> Option<&'a Time> {
         .min()
 }
 
+/// [`Kinetic::enqueue`] on the queue alone (a certificate of the book may
+/// be borrowed meanwhile).
+fn enqueue_in(
+    queue: &mut EventQueue<Time, [Att; 3]>,
+    world: &Geo,
+    c: &Cert,
+    now: &Time,
+) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
+    let Some(t) = failure_time(world, c, now) else {
+        return (None, None);
+    };
+    let root = !t.is_known_same(now);
+    let fp = fingerprint(world, &c.p).map(|f| Box::new((f, root)));
+    (Some(queue.schedule(t, tie(world, &c.p), c.p)), fp)
+}
+
 /// [`Kinetic::due_now`] on the queue and the instant's state alone (a
 /// certificate of the book may be borrowed meanwhile).
 fn due_in(
@@ -442,12 +458,7 @@ impl Kinetic {
         c: &Cert,
         now: &Time,
     ) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
-        let Some(t) = failure_time(world, c, now) else {
-            return (None, None);
-        };
-        let root = !t.is_known_same(now);
-        let fp = fingerprint(world, &c.p).map(|f| Box::new((f, root)));
-        (Some(self.queue.schedule(t, tie(world, &c.p), c.p)), fp)
+        enqueue_in(&mut self.queue, world, c, now)
     }
 
     /// Schedule certificate `c`, not yet known, for owner `o`.
@@ -493,20 +504,17 @@ impl Kinetic {
         }
     }
 
-    /// Whether the certificate on `p` holds from `now` to the earliest end
+    /// Whether certificate `c` holds from `now` to the earliest end
     /// of a bridge among its bodies ([`crate::world::Body::bridge_end`]),
     /// as the f64 filter proves it: its function is positive on the
     /// whole span. At that bridge's end the body's motion changes and
     /// every certificate on it is scheduled again, so until then it needs
     /// no failure time.
-    pub(super) fn holds_until_bridge_end(&self, world: &Geo, p: &[Att; 3], now: &Time) -> bool {
-        let Some(s) = self.certs.get(p) else {
+    pub(super) fn holds_until_bridge_end(&self, world: &Geo, c: &Cert, now: &Time) -> bool {
+        let Some(end) = bridge_end(world, &c.p) else {
             return false;
         };
-        let Some(end) = bridge_end(world, p) else {
-            return false;
-        };
-        let Some([c0, c1, c2]) = cert_enclosure(world, &s.cert) else {
+        let Some([c0, c1, c2]) = cert_enclosure(world, c) else {
             return false;
         };
         let span = now.interval().hull(&end.interval());
@@ -532,18 +540,15 @@ impl Kinetic {
         let Some(s) = self.certs.get_mut(p) else {
             return;
         };
-        let (c, old) = (s.cert, s.key.take());
         if s.idle {
             s.idle = false;
             self.idle -= 1;
         }
-        if let Some(k) = old {
+        if let Some(k) = s.key.take() {
             self.queue.cancel(k);
         }
-        let (key, fp) = self.enqueue(world, &c, now);
-        if let Some(s) = self.certs.get_mut(p) {
-            (s.key, s.fp, s.popped) = (key, fp, None);
-        }
+        let (key, fp) = enqueue_in(&mut self.queue, world, &s.cert, now);
+        (s.key, s.fp, s.popped) = (key, fp, None);
         self.max_active = self.max_active.max(self.active_now());
     }
 

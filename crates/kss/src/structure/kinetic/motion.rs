@@ -7,6 +7,7 @@ use std::collections::BTreeSet;
 
 use crate::motion::orient_poly;
 use crate::num::{Interval, Sign, Time};
+use crate::structure::certs::CertKind;
 use crate::structure::geo::Geo;
 use crate::structure::ops::Owner;
 use crate::structure::StructureError;
@@ -55,14 +56,19 @@ impl Kinetic {
         // ends is scheduled then, when that body's motion changes again;
         // `turning[i]`: the filter proved `touched[i]` a turn certificate
         // positive from now, so its turn is not zero at now)
+        // (`kinds[i]`: the kind of `touched[i]`'s certificate, `None` if it
+        // has none; nothing below drops one before the last loop)
         let mut turning = vec![false; touched.len()];
+        let mut kinds: Vec<Option<CertKind>> = Vec::with_capacity(touched.len());
         for (p, turning) in touched.iter().zip(&mut turning) {
-            if !waiting.contains(p) && self.holds_until_bridge_end(world, p, now) {
+            let Some(cert) = self.certs.get(p).map(|s| s.cert) else {
+                kinds.push(None);
+                continue;
+            };
+            kinds.push(Some(cert.kind));
+            if !waiting.contains(p) && self.holds_until_bridge_end(world, &cert, now) {
                 self.idle_until_bridge_end(p);
-                *turning = self
-                    .certs
-                    .get(p)
-                    .is_some_and(|s| s.cert.kind != crate::structure::certs::CertKind::Order);
+                *turning = cert.kind != CertKind::Order;
                 continue;
             }
             self.reschedule(world, p, now);
@@ -80,9 +86,10 @@ impl Kinetic {
         let undecided: Vec<bool> = touched
             .iter()
             .zip(&turning)
-            .map(|(p, &turning)| {
+            .zip(&kinds)
+            .map(|((p, &turning), kind)| {
                 !turning
-                    && self.certs.contains_key(p)
+                    && kind.is_some()
                     && world
                         .orient_filtered(p[0], p[1], p[2], now.interval())
                         .is_none()
@@ -99,7 +106,14 @@ impl Kinetic {
             eprintln!("resting at {}: {resting:?}", now.to_f64());
             self.kss.trace_dump();
         }
-        for (p, undecided) in touched.into_iter().zip(undecided) {
+        for ((p, undecided), kind) in touched.into_iter().zip(undecided).zip(kinds) {
+            // (a turn certificate whose turn the filter decided at `now`
+            // is not zero then: nothing below concerns it, and no
+            // certificate an owner's refresh puts on its points meanwhile
+            // is an order one, which needs a zero turn)
+            if !undecided && kind.is_some_and(|k| k != CertKind::Order) {
+                continue;
+            }
             let Some(s) = self.certs.get(&p) else {
                 continue;
             };
@@ -108,7 +122,7 @@ impl Kinetic {
             // that out wherever it decides a sign
             let lp = |a: Att| world.point(a);
             let zero = undecided && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
-            if s.cert.kind == crate::structure::certs::CertKind::Order {
+            if s.cert.kind == CertKind::Order {
                 let owners: Vec<Owner> = s.owners.to_vec();
                 // an order certificate whose three points leave their common
                 // line is a turn again (unless it fails now: two of its points
@@ -262,10 +276,13 @@ impl Kinetic {
     ) -> BTreeSet<CorrId> {
         let mut out = BTreeSet::new();
         for (p, &undecided) in ps.iter().zip(undecided) {
+            if !undecided {
+                continue;
+            }
             let Some(s) = self.certs.get(p) else {
                 continue;
             };
-            if s.cert.kind == crate::structure::certs::CertKind::Order || !undecided {
+            if s.cert.kind == CertKind::Order {
                 continue;
             }
             let lp = |a: Att| world.point(a);
