@@ -62,6 +62,16 @@ pub const MAX_CERTS: usize = 8;
 /// The junctions of one face: two per chain piece at most.
 type FaceJunctions = ArrayVec<Junction, 4>;
 
+/// The last eight points a walk placed ([`Kss::walk`]), with the next
+/// entry to replace (`ω` marks an unused entry: no walk places it).
+struct PlacedRing([(Att, Option<crate::geom::MidRad>); 8], usize);
+
+impl Default for PlacedRing {
+    fn default() -> PlacedRing {
+        PlacedRing([(Att::OMEGA, None); 8], 0)
+    }
+}
+
 /// A piece of chain in face order: from `start` clockwise over `len` edges.
 #[derive(Clone, Copy, Debug)]
 struct Piece {
@@ -1281,13 +1291,44 @@ impl Kss {
         // a cusp (a zero turn whose neighbours lie on one side of `v`: two
         // sliding bodies pinch the corridor) counts as convex, as in
         // `faces_valid_core`
-        let tn = |u, v, w| match turn_on(world, u, v, w, t, side) {
-            Sign::Zero
-                if between_on(world, v, u, w, t, side) || between_on(world, v, w, u, t, side) =>
-            {
-                Sign::Positive
+        // (the walk's points, placed for the midpoint–radius filter once
+        // each while they stay near the bridge's two ends: a step moves
+        // one end to a neighbour, and the four turns of a step share their
+        // points)
+        let tiv = t.interval();
+        let placed: std::cell::RefCell<PlacedRing> = Default::default();
+        let place = |a: Att| {
+            let mut ring = placed.borrow_mut();
+            if let Some(&(_, m)) = ring.0.iter().find(|(x, _)| *x == a) {
+                return m;
             }
-            s => s,
+            let m = world.mid_rad(a, tiv);
+            let at = ring.1 % ring.0.len();
+            ring.0[at] = (a, m);
+            ring.1 = ring.1.wrapping_add(1);
+            m
+        };
+        let filtered = |u: Att, v: Att, w: Att| {
+            if u == v || v == w || u == w {
+                return None;
+            }
+            let s = crate::geom::orient_mid_rad(place(u)?, place(v)?, place(w)?)?;
+            super::counters::bump(super::counters::Counter::TurnsFiltered);
+            Some(s)
+        };
+        let tn = |u, v, w| {
+            if let Some(s) = filtered(u, v, w) {
+                return s;
+            }
+            match turn_on(world, u, v, w, t, side) {
+                Sign::Zero
+                    if between_on(world, v, u, w, t, side)
+                        || between_on(world, v, w, u, t, side) =>
+                {
+                    Sign::Positive
+                }
+                s => s,
+            }
         };
         // (the bridge's ends move one step at a time: a step from the
         // previous end, not `i` steps from the chain's start, which costs
