@@ -135,8 +135,14 @@ impl ExactTime for DeferredFailure {
 
 /// When certificate `c` fails, given that `now` is the current time: `now`
 /// itself if it is already wrong just after `now`, else the first later root
-/// where it stops being positive, if any.
-pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
+/// where it stops being positive, if any; `e` is the certificate's
+/// [`cert_enclosure`].
+pub(super) fn failure_time(
+    world: &Geo,
+    c: &Cert,
+    now: &Time,
+    e: Option<[Interval; 3]>,
+) -> Option<Time> {
     use crate::structure::counters::{bump, Counter};
     bump(Counter::FailureTimes);
     // (`None` only if a point is no vertex of its body's approximation,
@@ -150,7 +156,6 @@ pub fn failure_time(world: &Geo, c: &Cert, now: &Time) -> Option<Time> {
         };
         Some(Time::deferred(iv, src))
     };
-    let e = cert_enclosure(world, c);
     if let Some(e) = e {
         match filtered_failure(e, now.interval()) {
             Filtered::Never => return None,
@@ -276,6 +281,29 @@ pub(super) fn bridge_end<'a>(world: &'a Geo, p: &[Att; 3]) -> Option<&'a Time> {
         .min()
 }
 
+/// Whether certificate `c` holds from `now` to the earliest end
+/// of a bridge among its bodies ([`crate::world::Body::bridge_end`]),
+/// as the f64 filter proves it: its function is positive on the
+/// whole span. At that bridge's end the body's motion changes and
+/// every certificate on it is scheduled again, so until then it needs
+/// no failure time.
+/// `e` is the certificate's [`cert_enclosure`].
+pub(super) fn holds_until_bridge_end(
+    world: &Geo,
+    c: &Cert,
+    now: &Time,
+    e: Option<[Interval; 3]>,
+) -> bool {
+    let Some(end) = bridge_end(world, &c.p) else {
+        return false;
+    };
+    let Some([c0, c1, c2]) = e else {
+        return false;
+    };
+    let span = now.interval().hull(&end.interval());
+    (c0 + span * (c1 + span * c2)).sign() == Some(Sign::Positive)
+}
+
 /// [`Kinetic::enqueue`] on the queue alone (a certificate of the book may
 /// be borrowed meanwhile).
 fn enqueue_in(
@@ -284,7 +312,18 @@ fn enqueue_in(
     c: &Cert,
     now: &Time,
 ) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
-    let Some(t) = failure_time(world, c, now) else {
+    enqueue_with(queue, world, c, now, cert_enclosure(world, c))
+}
+
+/// [`enqueue_in`] given `e`, the certificate's [`cert_enclosure`].
+fn enqueue_with(
+    queue: &mut EventQueue<Time, [Att; 3]>,
+    world: &Geo,
+    c: &Cert,
+    now: &Time,
+    e: Option<[Interval; 3]>,
+) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
+    let Some(t) = failure_time(world, c, now, e) else {
         return (None, None);
     };
     let root = !t.is_known_same(now);
@@ -504,25 +543,8 @@ impl Kinetic {
         }
     }
 
-    /// Whether certificate `c` holds from `now` to the earliest end
-    /// of a bridge among its bodies ([`crate::world::Body::bridge_end`]),
-    /// as the f64 filter proves it: its function is positive on the
-    /// whole span. At that bridge's end the body's motion changes and
-    /// every certificate on it is scheduled again, so until then it needs
-    /// no failure time.
-    pub(super) fn holds_until_bridge_end(&self, world: &Geo, c: &Cert, now: &Time) -> bool {
-        let Some(end) = bridge_end(world, &c.p) else {
-            return false;
-        };
-        let Some([c0, c1, c2]) = cert_enclosure(world, c) else {
-            return false;
-        };
-        let span = now.interval().hull(&end.interval());
-        (c0 + span * (c1 + span * c2)).sign() == Some(Sign::Positive)
-    }
-
     /// Take the certificate on `p` out of the queue until the end of a
-    /// bridge of one of its bodies ([`Kinetic::holds_until_bridge_end`]).
+    /// bridge of one of its bodies ([`holds_until_bridge_end`]).
     pub(super) fn idle_until_bridge_end(&mut self, p: &[Att; 3]) {
         if let Some(s) = self.certs.get_mut(p) {
             if let Some(k) = s.key.take() {
@@ -537,6 +559,18 @@ impl Kinetic {
     }
 
     pub(super) fn reschedule(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
+        self.reschedule_with(world, p, now, None);
+    }
+
+    /// [`Kinetic::reschedule`] given the certificate's [`cert_enclosure`]
+    /// (`Some(e)`; `None`: computed here).
+    pub(super) fn reschedule_with(
+        &mut self,
+        world: &Geo,
+        p: &[Att; 3],
+        now: &Time,
+        e: Option<Option<[Interval; 3]>>,
+    ) {
         let Some(s) = self.certs.get_mut(p) else {
             return;
         };
@@ -547,7 +581,8 @@ impl Kinetic {
         if let Some(k) = s.key.take() {
             self.queue.cancel(k);
         }
-        let (key, fp) = enqueue_in(&mut self.queue, world, &s.cert, now);
+        let e = e.unwrap_or_else(|| cert_enclosure(world, &s.cert));
+        let (key, fp) = enqueue_with(&mut self.queue, world, &s.cert, now, e);
         (s.key, s.fp, s.popped) = (key, fp, None);
         self.max_active = self.max_active.max(self.active_now());
     }

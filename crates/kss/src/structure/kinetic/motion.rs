@@ -14,7 +14,7 @@ use crate::structure::StructureError;
 use crate::structure::{Att, CorrId, Obj};
 use crate::world::BodyId;
 
-use super::book::is_failing;
+use super::book::{cert_enclosure, holds_until_bridge_end, is_failing};
 use super::instant::Broken;
 use super::tally::Rebuild;
 use super::{FastMap, Kinetic};
@@ -58,20 +58,27 @@ impl Kinetic {
         // positive from now, so its turn is not zero at now)
         // (`kinds[i]`: the kind of `touched[i]`'s certificate, `None` if it
         // has none; nothing below drops one before the last loop)
+        // (`encl[i]`: the enclosure of `touched[i]`'s certificate function,
+        // computed once for the bridge check, its failure time and the
+        // filters below)
         let mut turning = vec![false; touched.len()];
         let mut kinds: Vec<Option<CertKind>> = Vec::with_capacity(touched.len());
+        let mut encl: Vec<Option<[Interval; 3]>> = Vec::with_capacity(touched.len());
         for (p, turning) in touched.iter().zip(&mut turning) {
             let Some(cert) = self.certs.get(p).map(|s| s.cert) else {
                 kinds.push(None);
+                encl.push(None);
                 continue;
             };
             kinds.push(Some(cert.kind));
-            if !waiting.contains(p) && self.holds_until_bridge_end(world, &cert, now) {
+            let e = cert_enclosure(world, &cert);
+            encl.push(e);
+            if !waiting.contains(p) && holds_until_bridge_end(world, &cert, now, e) {
                 self.idle_until_bridge_end(p);
                 *turning = cert.kind != CertKind::Order;
                 continue;
             }
-            self.reschedule(world, p, now);
+            self.reschedule_with(world, p, now, Some(e));
         }
         // A corridor with a junction straight at `now` was shaped by its
         // turns just after `now` under the old motions (an operation of this
@@ -83,16 +90,20 @@ impl Kinetic {
         // asked once here for both uses below)
         // (only for the certificates that still exist: the points of one
         // dropped meanwhile may no longer be vertices)
+        // (for a turn certificate, its function's enclosure at `now`: a
+        // positive multiple of the turn or of its negation)
+        let tiv = now.interval();
         let undecided: Vec<bool> = touched
             .iter()
             .zip(&turning)
-            .zip(&kinds)
-            .map(|((p, &turning), kind)| {
-                !turning
-                    && kind.is_some()
-                    && world
-                        .orient_filtered(p[0], p[1], p[2], now.interval())
-                        .is_none()
+            .zip(kinds.iter().zip(&encl))
+            .map(|((p, &turning), (kind, e))| match (kind, e) {
+                _ if turning => false,
+                (None, _) => false,
+                (Some(k), Some([c0, c1, c2])) if *k != CertKind::Order => {
+                    (*c0 + tiv * (*c1 + tiv * *c2)).sign().is_none()
+                }
+                _ => world.orient_filtered(p[0], p[1], p[2], tiv).is_none(),
             })
             .collect();
         let reshape = self.straight_now(world, &touched, &undecided, now);
@@ -106,7 +117,7 @@ impl Kinetic {
             eprintln!("resting at {}: {resting:?}", now.to_f64());
             self.kss.trace_dump();
         }
-        for ((p, undecided), kind) in touched.into_iter().zip(undecided).zip(kinds) {
+        for (((p, undecided), kind), e) in touched.into_iter().zip(undecided).zip(kinds).zip(encl) {
             // (a turn certificate whose turn the filter decided at `now`
             // is not zero then: nothing below concerns it, and no
             // certificate an owner's refresh puts on its points meanwhile
@@ -121,7 +132,14 @@ impl Kinetic {
             // (the three points slide along one line); the filter rules
             // that out wherever it decides a sign
             let lp = |a: Att| world.point(a);
-            let zero = undecided && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
+            // (and so does a coefficient of the certificate's function
+            // that its enclosure shows is not zero, for a turn certificate
+            // then and now: its function is a multiple of the turn)
+            let nonzero = s.cert.kind != CertKind::Order
+                && kind.is_some_and(|k| k != CertKind::Order)
+                && e.is_some_and(|e| e.iter().any(|c| c.sign().is_some_and(|s| s != Sign::Zero)));
+            let zero =
+                undecided && !nonzero && orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2])).is_zero();
             if s.cert.kind == CertKind::Order {
                 let owners: Vec<Owner> = s.owners.to_vec();
                 // an order certificate whose three points leave their common
