@@ -943,8 +943,7 @@ impl<'a> Geo<'a> {
     /// decides it and it is not zero (then it is also the sign just before
     /// and just after that time); `None` otherwise.
     pub fn orient_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
-        use super::counters::{bump, Counter};
-        bump(Counter::TurnsFiltered);
+        super::counters::bump(super::counters::Counter::TurnsFiltered);
         // the midpoint–radius filter first (cheapest, on the cached
         // points), then the intervals
         if let (Some(a), Some(b), Some(c)) =
@@ -964,6 +963,13 @@ impl<'a> Geo<'a> {
                 return Some(s);
             }
         }
+        self.orient_intervals(u, v, w, t)
+    }
+
+    /// [`Geo::orient_filtered`]'s second stage alone, the interval filter:
+    /// for a turn whose points' midpoint–radius filter at `t` already left
+    /// it undecided.
+    pub fn orient_intervals(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
         let lin = [
             self.enclose_linear(u)?,
             self.enclose_linear(v)?,
@@ -972,7 +978,7 @@ impl<'a> Geo<'a> {
         let at = |[x0, x1, y0, y1]: [Interval; 4]| [x0 + x1 * t, y0 + y1 * t];
         let s = crate::geom::orient_enclosed(at(lin[0]), at(lin[1]), at(lin[2]));
         if s.is_none() {
-            bump(Counter::TurnsUndecided);
+            super::counters::bump(super::counters::Counter::TurnsUndecided);
         }
         s
     }

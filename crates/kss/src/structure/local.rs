@@ -125,14 +125,34 @@ pub fn turn_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sig
     if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
         return s;
     }
-    world.shapes.faces.note_exact_read();
-    match side {
-        Side::After => turn_after(world, u, v, w, t),
-        Side::Before => world.memo_turn([u, v, w], t, false, || {
-            crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w))
-                .sign_before(t)
-        }),
+    turn_on_exact(world, [u, v, w], t, side)
+}
+
+/// [`turn_on`] for three distinct points whose midpoint–radius filter at
+/// `t` ([`crate::geom::orient_mid_rad`] on [`Geo::mid_rad`]) left the turn
+/// undecided: the interval filter, then the exact sign.
+fn turn_on_past_mid_rad(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sign {
+    if let Some(s) = world.orient_intervals(u, v, w, t.interval()) {
+        return s;
     }
+    turn_on_exact(world, [u, v, w], t, side)
+}
+
+/// The sign of the turn of `[u, v, w]` just on `side` of `t` where the
+/// filters leave it undecided: the instant's memo, or the exact sign.
+fn turn_on_exact(world: &Geo, [u, v, w]: [Att; 3], t: &Time, side: Side) -> Sign {
+    world.shapes.faces.note_exact_read();
+    // (the filter above is `turn_after`'s own: the instant's memo and the
+    // exact sign directly)
+    let after = side == Side::After;
+    world.memo_turn([u, v, w], t, after, || {
+        let p = crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w));
+        if after {
+            p.sign_after(t)
+        } else {
+            p.sign_before(t)
+        }
+    })
 }
 
 /// Whether `v` is strictly between `u` and `w` just after `t` (for three
@@ -198,6 +218,22 @@ impl Placed {
         super::counters::bump(super::counters::Counter::TurnsFiltered);
         Some(s)
     }
+
+    /// The junction's turn just on `side` of `t`: [`Placed::turn`] where it
+    /// decides, else the interval filter and the exact sign (as
+    /// [`turn_on`], without asking the midpoint–radius filter again).
+    fn turn_on(&self, world: &Geo, t: &Time, side: Side) -> Sign {
+        if let Some(s) = self.turn() {
+            return s;
+        }
+        let [v, _, _, p, n] = self.pts;
+        let placed = self.mids[0].is_some() && self.mids[3].is_some() && self.mids[4].is_some();
+        if placed && p != v && v != n && p != n {
+            turn_on_past_mid_rad(world, p, v, n, t, side)
+        } else {
+            turn_on(world, p, v, n, t, side)
+        }
+    }
 }
 
 /// [`junction_clear`] with the junction's points placed.
@@ -220,6 +256,9 @@ fn junction_clear_placed(
             super::counters::bump(super::counters::Counter::TurnsFiltered);
             if let Some(s) = crate::geom::orient_mid_rad(ea, eb, ec) {
                 return s;
+            }
+            if a != b && b != c && a != c {
+                return turn_on_past_mid_rad(world, a, b, c, t, side);
             }
         }
         turn_on(world, a, b, c, t, side)
@@ -622,9 +661,11 @@ impl Kss {
                 // (with `clear`, the sign is the turn on `side` of `t`:
                 // the junction's points are placed once for the filter of
                 // that turn and for its clearance)
+                // (with `clear`, `sign` is `turn_on` on `side`)
                 let placed = clear.then(|| Placed::of(world, j, t));
-                let s = match placed.as_ref().and_then(Placed::turn) {
-                    Some(s) => {
+                let s = match placed.as_ref() {
+                    Some(placed) => {
+                        let s = placed.turn_on(world, t, side);
                         debug_assert_eq!(s, sign(j), "the placed turn of {j:?} is not its sign");
                         s
                     }
@@ -1308,19 +1349,26 @@ impl Kss {
             ring.1 = ring.1.wrapping_add(1);
             m
         };
-        let filtered = |u: Att, v: Att, w: Att| {
+        // (`Err(true)`: the three points are placed and distinct, and the
+        // filter leaves their turn undecided)
+        let filtered = |u: Att, v: Att, w: Att| -> Result<Sign, bool> {
             if u == v || v == w || u == w {
-                return None;
+                return Err(false);
             }
-            let s = crate::geom::orient_mid_rad(place(u)?, place(v)?, place(w)?)?;
+            let (Some(a), Some(b), Some(c)) = (place(u), place(v), place(w)) else {
+                return Err(false);
+            };
+            let s = crate::geom::orient_mid_rad(a, b, c).ok_or(true)?;
             super::counters::bump(super::counters::Counter::TurnsFiltered);
-            Some(s)
+            Ok(s)
         };
         let tn = |u, v, w| {
-            if let Some(s) = filtered(u, v, w) {
-                return s;
-            }
-            match turn_on(world, u, v, w, t, side) {
+            let s = match filtered(u, v, w) {
+                Ok(s) => return s,
+                Err(true) => turn_on_past_mid_rad(world, u, v, w, t, side),
+                Err(false) => turn_on(world, u, v, w, t, side),
+            };
+            match s {
                 Sign::Zero
                     if between_on(world, v, u, w, t, side)
                         || between_on(world, v, w, u, t, side) =>
