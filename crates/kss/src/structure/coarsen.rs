@@ -52,6 +52,35 @@ fn segment_meets_triangle(p: &Point, q: &Point, t: &[Point; 3]) -> bool {
     true
 }
 
+/// [`segment_meets_triangle`] from enclosures of the points (the triangle
+/// counter-clockwise), where the f64 filter decides every sign the answer
+/// rests on; `None` otherwise.
+fn segment_meets_triangle_enclosed(
+    p: [Interval; 2],
+    q: [Interval; 2],
+    t: &[[Interval; 2]; 3],
+) -> Option<bool> {
+    use crate::geom::orient_enclosed;
+    let neg = Some(Sign::Negative);
+    let pos = Some(Sign::Positive);
+    // (a sign the filter decides is the exact one, and not zero)
+    let mut edges_meet = true;
+    for i in 0..3 {
+        let (a, b) = (t[i], t[(i + 1) % 3]);
+        let (sp, sq) = (orient_enclosed(a, b, p), orient_enclosed(a, b, q));
+        if sp == neg && sq == neg {
+            return Some(false);
+        }
+        edges_meet &= sp == pos || sq == pos;
+    }
+    let sides = t.map(|x| orient_enclosed(p, q, x));
+    if sides.iter().all(|&s| s == pos) || sides.iter().all(|&s| s == neg) {
+        // (p ≠ q: their turn with a corner is not zero)
+        return Some(false);
+    }
+    (edges_meet && sides.contains(&pos) && sides.contains(&neg)).then_some(true)
+}
+
 /// `x` scaled by 2 about `m`.
 fn double_about(m: &Point, x: &Point) -> Point {
     m.add(
@@ -160,16 +189,20 @@ impl Kss {
                 let m = [(ea[0] + ec[0]) * half, (ea[1] + ec[1]) * half];
                 let scaled = |x: [Interval; 2]| [two * x[0] - m[0], two * x[1] - m[1]];
                 let b = [scaled(ea), scaled(ec), scaled(ez)];
-                if crate::geom::orient_enclosed(b[0], b[1], b[2]).is_some() {
+                // (counter-clockwise, as `exact_big` orders it)
+                let b = match crate::geom::orient_enclosed(b[0], b[1], b[2]) {
+                    Some(Sign::Negative) => Some([b[0], b[2], b[1]]),
+                    Some(_) => Some(b),
+                    None => None,
+                };
+                b.map(|b| {
                     let hull = |d: usize| {
                         let lo = b[0][d].lo.min(b[1][d].lo).min(b[2][d].lo);
                         let hi = b[0][d].hi.max(b[1][d].hi).max(b[2][d].hi);
                         (lo, hi)
                     };
-                    Some([hull(0), hull(1)])
-                } else {
-                    None
-                }
+                    ([hull(0), hull(1)], b)
+                })
             }
             _ => None,
         };
@@ -232,13 +265,33 @@ impl Kss {
             }
         }
         for (u, v) in segs {
-            if let (Some(bb), Some(eu), Some(ev)) =
+            if let (Some((bb, tri)), Some(eu), Some(ev)) =
                 (big_box, geo.enclose(u, tiv), geo.enclose(v, tiv))
             {
                 let apart =
                     |d: usize| eu[d].hi.max(ev[d].hi) < bb[d].0 || eu[d].lo.min(ev[d].lo) > bb[d].1;
                 if apart(0) || apart(1) {
                     continue;
+                }
+                // (the signs of the exact test, where the filter decides them)
+                let decided = segment_meets_triangle_enclosed(eu, ev, &tri);
+                #[cfg(debug_assertions)]
+                if let (Some(d), Some(big), Some(pu), Some(pv)) = (
+                    decided,
+                    exact_big(),
+                    geo.position(u, &r),
+                    geo.position(v, &r),
+                ) {
+                    assert_eq!(
+                        d,
+                        segment_meets_triangle(&pu, &pv, &big),
+                        "the filter misjudges the merge's triangle"
+                    );
+                }
+                match decided {
+                    Some(false) => continue,
+                    Some(true) => return None,
+                    None => {}
                 }
             }
             if exact.is_none() {
