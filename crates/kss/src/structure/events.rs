@@ -252,8 +252,15 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
 /// only if `w` is a real vertex lying on the real part of the edge (the
 /// base segment of the edge's entry in the hierarchy). `None` when this
 /// cannot be decided so (no approximation, an irrational instant, two
-/// vertices meeting, or approximations sliding along `L`).
-pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, BodyId)> {
+/// vertices meeting, or approximations sliding along `L`). `zero` says that
+/// the turn of `p` is known to be zero at `t` (a certificate on `p` whose
+/// failure time `t` is a root of its function).
+pub fn real_touch_excluded(
+    world: &Geo,
+    p: &[Att; 3],
+    t: &Time,
+    zero: bool,
+) -> Option<(BodyId, BodyId)> {
     // only between two approximations, and only where the three points are
     // collinear at `t` (the filter rules that out cheaply)
     let approximated = |a: Att| matches!(a.obj, Obj::Body(b) if world.shapes.approx(b).is_some());
@@ -268,7 +275,9 @@ pub fn real_touch_excluded(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyI
     use crate::num::Sign;
     t.as_rational()?;
     let pts = p.map(|a| world.point(a));
-    if orient_poly(&pts[0], &pts[1], &pts[2]).sign_at(t) != Sign::Zero {
+    let turn_zero = || orient_poly(&pts[0], &pts[1], &pts[2]).sign_at(t) == Sign::Zero;
+    debug_assert!(!zero || turn_zero(), "the turn of {p:?} is not zero");
+    if !zero && !turn_zero() {
         return None;
     }
     // (a − m)·(b − m) < 0 (the f64 filter first: a sign it decides is

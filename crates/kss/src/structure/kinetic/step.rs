@@ -138,6 +138,22 @@ pub(super) fn contact_pairs(
     v
 }
 
+/// Whether the turn of `c`'s points is known to be zero at `t`: `c` is a
+/// turn certificate whose failure time `due` is `t` and a root of its
+/// function, computed for the points it still has (`fp`, as
+/// [`super::book::due_is_failing`] reads it).
+fn root_at(
+    world: &Geo,
+    c: &crate::structure::certs::Cert,
+    fp: Option<&(super::Fingerprint, bool)>,
+    due: Option<&Time>,
+    t: &Time,
+) -> bool {
+    c.kind != crate::structure::certs::CertKind::Order
+        && matches!((fp, due), (Some(&(f, true)), Some(at))
+            if at.is_known_same(t) && Some(f) == super::fingerprint(world, &c.p))
+}
+
 impl Kinetic {
     /// Whether a failure that could be a contact is still queued at `t`
     /// (such failures are popped first at an instant).
@@ -210,10 +226,11 @@ impl Kinetic {
         );
         if tie == 0 {
             let cert = s.cert;
+            let zero = root_at(world, &cert, s.fp.as_deref(), Some(&t), &t);
             let (pairs, apart) = match classify(world, &cert, &t) {
                 Failure::Contact { a, b, third } => {
                     let owners = s.owners.clone();
-                    let apart = crate::structure::events::real_touch_excluded(world, &p, &t);
+                    let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
                     let pairs =
                         contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
                     (pairs, apart)
@@ -449,7 +466,8 @@ impl Kinetic {
         }
         let mut failure = classify(world, &cert, &t);
         if let Failure::Contact { a, b, third } = failure {
-            let apart = crate::structure::events::real_touch_excluded(world, &p, &t);
+            let zero = root_at(world, &cert, fp.as_ref(), popped.as_deref(), &t);
+            let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
             let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
             if let Some(step) = self.touch(world, p, &t, pairs, apart, collides) {
                 return Ok(step);
