@@ -229,7 +229,29 @@ impl BodyPolygon {
     }
 
     /// Sign of the turn at vertex `i` (positive: left turn).
+    /// The integer coordinates as `i128` when their bit length is at most
+    /// 62: differences then fit in 63 bits and a cross product of two in
+    /// 127, so the exact tests below need no big integers.
+    fn narrow(&self) -> Option<&[[i128; 2]]> {
+        self.small.as_deref().filter(|_| self.bits <= 62)
+    }
+
     fn turn(&self, i: usize) -> Sign {
+        let n = self.len();
+        let h = (i + n - 1) % n;
+        let j = (i + 1) % n;
+        if let Some(v) = self.narrow() {
+            let (ax, ay) = (v[i][0] - v[h][0], v[i][1] - v[h][1]);
+            let (bx, by) = (v[j][0] - v[i][0], v[j][1] - v[i][1]);
+            let s = Sign::of_i128(ax * by - ay * bx);
+            debug_assert_eq!(s, self.turn_big(i), "the i128 turn of vertex {i}");
+            return s;
+        }
+        self.turn_big(i)
+    }
+
+    /// [`BodyPolygon::turn`] on the big integers.
+    fn turn_big(&self, i: usize) -> Sign {
         let n = self.len();
         let h = (i + n - 1) % n;
         let j = (i + 1) % n;
@@ -242,24 +264,40 @@ impl BodyPolygon {
     /// assuming every turn has the same strict sign.
     fn winding(&self) -> i64 {
         let n = self.len();
-        let dir = |i: usize| {
-            let j = (i + 1) % n;
-            (&self.xs[j] - &self.xs[i], &self.ys[j] - &self.ys[i])
-        };
-        // half 0: angle in [0, π); half 1: [π, 2π)
-        let half = |d: &(Int, Int)| {
-            if d.1 > Int::ZERO || (d.1.is_zero() && d.0 > Int::ZERO) {
+        // half 0: angle in [0, π); half 1: [π, 2π), of the direction from
+        // vertex `i` to the next (whose coordinates' signs are those of the
+        // differences)
+        let half_of = |dx: Sign, dy: Sign| {
+            if dy == Sign::Positive || (dy == Sign::Zero && dx == Sign::Positive) {
                 0
             } else {
                 1
             }
         };
+        let dir_half = |i: usize| {
+            let j = (i + 1) % n;
+            let big = || {
+                half_of(
+                    Sign::of(&(&self.xs[j] - &self.xs[i])),
+                    Sign::of(&(&self.ys[j] - &self.ys[i])),
+                )
+            };
+            match self.narrow() {
+                Some(v) => {
+                    let h = half_of(
+                        Sign::of_i128(v[j][0] - v[i][0]),
+                        Sign::of_i128(v[j][1] - v[i][1]),
+                    );
+                    debug_assert_eq!(h, big(), "the i128 direction of edge {i}");
+                    h
+                }
+                None => big(),
+            }
+        };
         let ccw = self.turn(0) == Sign::Positive;
         let mut wraps = 0i64;
         for i in 0..n {
-            let a = dir(i);
-            let b = dir((i + 1) % n);
-            let (ha, hb) = (half(&a), half(&b));
+            let (ha, hb) = (dir_half(i), dir_half((i + 1) % n));
             // Counter-clockwise: a wrap past angle 0 goes from half 1 to half 0.
             if ccw && ha == 1 && hb == 0 {
                 wraps += 1;
@@ -318,6 +356,24 @@ impl BodyPolygon {
 
     /// Twice the signed area, exactly.
     pub fn twice_area(&self) -> Rational {
+        let n = self.len();
+        if let Some(v) = self.narrow() {
+            // (each term below 2^127 in size; a sum of `n` terms checked)
+            let sum = (0..n).try_fold(0i128, |acc, i| {
+                let j = (i + 1) % n;
+                acc.checked_add(v[i][0] * v[j][1] - v[j][0] * v[i][1])
+            });
+            if let Some(sum) = sum {
+                let a = Rational::from_dyadic(Int::from(sum), 2 * self.exp);
+                debug_assert_eq!(a, self.twice_area_big(), "the i128 area");
+                return a;
+            }
+        }
+        self.twice_area_big()
+    }
+
+    /// [`BodyPolygon::twice_area`] on the big integers.
+    fn twice_area_big(&self) -> Rational {
         let n = self.len();
         let mut s = Int::ZERO;
         for i in 0..n {

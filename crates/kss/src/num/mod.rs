@@ -49,6 +49,11 @@ impl Sign {
         }
     }
 
+    /// The sign of a machine integer.
+    pub fn of_i128(x: i128) -> Sign {
+        Sign::from_ordering(x.cmp(&0))
+    }
+
     /// The sign of `x - y` given by an ordering.
     pub fn from_ordering(o: std::cmp::Ordering) -> Sign {
         match o {
