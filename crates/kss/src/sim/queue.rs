@@ -49,7 +49,7 @@
 //! * the heap array holds only `u32` slot indices, so sifting moves 4-byte
 //!   values with a hole (no swaps) and never moves priorities or payloads,
 //!   which matters because exact times are large (the crate's exact time
-//!   type, `num::Time`, is 120 bytes).
+//!   type, `num::Time`, is 72 bytes).
 //!
 //! Cancel and reschedule therefore find the event in `O(1)` and repair the
 //! heap in `O(log n)`. Nothing is ever deleted lazily: the heap contains
