@@ -504,7 +504,7 @@ impl Kinetic {
     pub(super) fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) {
         let (key, fp) = self.enqueue(world, &c, now);
         for b in each_body(&c.p) {
-            self.by_body.entry(b).or_default().insert(c.p);
+            self.by_body.at(b).insert(c.p);
         }
         self.certs.insert(
             c.p,

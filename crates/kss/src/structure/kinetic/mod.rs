@@ -61,6 +61,37 @@ enum CertSet {
     Many(FastSet<[Att; 3]>),
 }
 
+/// The certificates on each body, indexed by body id ([`Kinetic::by_body`]):
+/// body ids are dense, so a vector, not a hashed map, finds a body's set.
+#[derive(Clone, Debug, Default)]
+struct ByBody(Vec<CertSet>);
+
+impl ByBody {
+    /// The set of body `b` (`None` if it has never had one).
+    fn get(&self, b: &BodyId) -> Option<&CertSet> {
+        self.0.get(b.index())
+    }
+
+    fn get_mut(&mut self, b: &BodyId) -> Option<&mut CertSet> {
+        self.0.get_mut(b.index())
+    }
+
+    /// The set of body `b`, made empty if it has none yet.
+    fn at(&mut self, b: BodyId) -> &mut CertSet {
+        if self.0.len() <= b.index() {
+            self.0.resize_with(b.index() + 1, CertSet::default);
+        }
+        &mut self.0[b.index()]
+    }
+
+    /// Forget body `b`'s set (its memory too).
+    fn remove(&mut self, b: &BodyId) {
+        if let Some(set) = self.0.get_mut(b.index()) {
+            *set = CertSet::default();
+        }
+    }
+}
+
 /// The size above which a [`CertSet`] is hashed.
 const FEW_CERTS: usize = 256;
 
@@ -284,7 +315,7 @@ pub struct Kinetic {
     /// a flight plan changes): unordered ([`CertSet`]), sorted where the
     /// order matters (it decides the queue's insertion order, the last
     /// tie-breaker).
-    by_body: FastMap<BodyId, CertSet>,
+    by_body: ByBody,
     owned_tri: Vec<Vec<[Att; 3]>>,
     owned_corr: Vec<Vec<[Att; 3]>>,
     queue: EventQueue<Time, [Att; 3]>,
