@@ -142,8 +142,7 @@ fn turn_on_past_mid_rad(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Sid
 /// filters leave it undecided: the instant's memo, or the exact sign.
 fn turn_on_exact(world: &Geo, [u, v, w]: [Att; 3], t: &Time, side: Side) -> Sign {
     world.shapes.faces.note_exact_read();
-    // (the filter above is `turn_after`'s own: the instant's memo and the
-    // exact sign directly)
+    // (the instant's memo of exact turns, which `turn_after` shares)
     let after = side == Side::After;
     world.memo_turn([u, v, w], t, after, || {
         let p = crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w));
@@ -661,7 +660,6 @@ impl Kss {
                 // (with `clear`, the sign is the turn on `side` of `t`:
                 // the junction's points are placed once for the filter of
                 // that turn and for its clearance)
-                // (with `clear`, `sign` is `turn_on` on `side`)
                 let placed = clear.then(|| Placed::of(world, j, t));
                 let s = match placed.as_ref() {
                     Some(placed) => {

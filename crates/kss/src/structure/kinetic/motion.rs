@@ -100,9 +100,11 @@ impl Kinetic {
             .map(|((p, &turning), (kind, e))| match (kind, e) {
                 _ if turning => false,
                 (None, _) => false,
-                (Some(k), Some([c0, c1, c2])) if *k != CertKind::Order => {
-                    (*c0 + tiv * (*c1 + tiv * *c2)).sign().is_none()
-                }
+                // (a value that is exactly zero is no proof of a sign)
+                (Some(k), Some([c0, c1, c2])) if *k != CertKind::Order => !matches!(
+                    (*c0 + tiv * (*c1 + tiv * *c2)).sign(),
+                    Some(Sign::Positive | Sign::Negative)
+                ),
                 _ => world.orient_filtered(p[0], p[1], p[2], tiv).is_none(),
             })
             .collect();
