@@ -403,7 +403,7 @@ impl Kinetic {
                 continue;
             };
             let shared = s.owners.iter().any(|&x| x != o);
-            s.owners.retain(|&x| x != o);
+            s.owners.retain(|x| *x != o);
             if let Some(i) = fresh.iter().position(|c| *c == s.cert) {
                 if shared
                     || !(self.instant.handling == Some(*p)
@@ -459,7 +459,7 @@ impl Kinetic {
                         // without an owner go
                         for p in &kept {
                             if let Some(s) = self.certs.get_mut(p) {
-                                s.owners.retain(|&x| x != o);
+                                s.owners.retain(|x| *x != o);
                                 if s.owners.is_empty() {
                                     self.drop_cert(p);
                                 }
@@ -511,7 +511,7 @@ impl Kinetic {
             Scheduled {
                 cert: c,
                 key,
-                owners: super::Owners::one(o),
+                owners: smallvec::smallvec![o],
                 fp,
                 popped: None,
                 idle: false,

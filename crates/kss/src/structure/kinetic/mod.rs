@@ -183,74 +183,8 @@ impl<'a> IntoIterator for &'a CertSet {
 
 /// The owners of a certificate: one or two nearly always, kept in place
 /// (no allocation per certificate, and no second cache line to read when
-/// an owner is added or taken off); more spill to a vector.
-#[derive(Clone, Debug)]
-enum Owners {
-    /// The first `len` of the array (`len` ≤ 2).
-    Inline(u8, [Owner; 2]),
-    /// Three or more, or as many as were once.
-    Spilled(Vec<Owner>),
-}
-
-impl Owners {
-    /// `o` alone.
-    fn one(o: Owner) -> Owners {
-        Owners::Inline(1, [o, o])
-    }
-
-    /// Add `o` at the end.
-    fn push(&mut self, o: Owner) {
-        match self {
-            Owners::Inline(n, a) if usize::from(*n) < a.len() => {
-                a[usize::from(*n)] = o;
-                *n += 1;
-            }
-            Owners::Inline(n, a) => {
-                let mut v = a[..usize::from(*n)].to_vec();
-                v.push(o);
-                *self = Owners::Spilled(v);
-            }
-            Owners::Spilled(v) => v.push(o),
-        }
-    }
-
-    /// Keep only the owners for which `f` holds, in their order.
-    fn retain(&mut self, f: impl Fn(&Owner) -> bool) {
-        match self {
-            Owners::Inline(n, a) => {
-                let mut kept = 0;
-                for i in 0..usize::from(*n) {
-                    if f(&a[i]) {
-                        a[kept] = a[i];
-                        kept += 1;
-                    }
-                }
-                *n = kept as u8;
-            }
-            Owners::Spilled(v) => v.retain(f),
-        }
-    }
-}
-
-impl std::ops::Deref for Owners {
-    type Target = [Owner];
-
-    fn deref(&self) -> &[Owner] {
-        match self {
-            Owners::Inline(n, a) => &a[..usize::from(*n)],
-            Owners::Spilled(v) => v,
-        }
-    }
-}
-
-impl std::ops::DerefMut for Owners {
-    fn deref_mut(&mut self) -> &mut [Owner] {
-        match self {
-            Owners::Inline(n, a) => &mut a[..usize::from(*n)],
-            Owners::Spilled(v) => v,
-        }
-    }
-}
+/// an owner is added or taken off); more spill to the heap.
+type Owners = smallvec::SmallVec<[Owner; 2]>;
 
 /// A certificate, where it sits in the queue, and who owns it.
 #[derive(Clone, Debug)]

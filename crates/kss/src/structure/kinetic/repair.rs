@@ -426,7 +426,7 @@ impl Kinetic {
             };
             for p in mine {
                 if let Some(s) = self.certs.get_mut(&p) {
-                    s.owners.retain(|&x| x != o);
+                    s.owners.retain(|x| *x != o);
                     if s.owners.is_empty() {
                         orphans.push(p);
                     }
