@@ -226,9 +226,9 @@ impl Kinetic {
         );
         if tie == 0 {
             let cert = s.cert;
-            let zero = root_at(world, &cert, s.fp.as_deref(), Some(&t), &t);
             let (pairs, apart) = match classify(world, &cert, &t) {
                 Failure::Contact { a, b, third } => {
+                    let zero = root_at(world, &cert, s.fp.as_deref(), Some(&t), &t);
                     let owners = s.owners.clone();
                     let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
                     let pairs =
