@@ -9,7 +9,10 @@ use crate::structure::geo::Geo;
 use crate::structure::StructureError;
 
 use super::book::{bridge_end, cert_poly, resting_flat};
+use super::step::each_body;
 use super::Kinetic;
+use crate::structure::ops::Owner;
+use crate::structure::{CorrId, TriId};
 
 impl Kinetic {
     /// Check every invariant at the rational instant `at`, strictly after the
@@ -101,6 +104,64 @@ impl Kinetic {
                 "{} queued events for {scheduled} scheduled certificates",
                 self.queue.len()
             )));
+        }
+        self.audit_ids()
+    }
+
+    /// The ids agree with the records: the index, each queued event's
+    /// payload, the owners' lists and the bodies' sets name each
+    /// certificate by its id, and nothing else.
+    fn audit_ids(&self) -> Result<(), StructureError> {
+        let bad = |what: String| Err(StructureError::Invariant(what));
+        let mut on_bodies = 0;
+        for (id, s) in self.certs.iter() {
+            let p = s.cert.p;
+            if self.certs.id(&p) != Some(id) {
+                return bad(format!("certificate {p:?} is not indexed by its id"));
+            }
+            if let Some(k) = s.key {
+                if self.queue.get(k).map(|(_, &q)| q) != Some(id) {
+                    return bad(format!("the queued event of {p:?} names another id"));
+                }
+            }
+            for b in each_body(&p) {
+                on_bodies += 1;
+                if !self
+                    .by_body
+                    .get(&b)
+                    .is_some_and(|set| set.iter().any(|&x| x == id))
+                {
+                    return bad(format!("certificate {p:?} is not in the set of {b:?}"));
+                }
+            }
+            for o in &s.owners {
+                let list = match *o {
+                    Owner::Tri(t) => self.owned_tri.get(t.0 as usize),
+                    Owner::Corr(k) => self.owned_corr.get(k.0 as usize),
+                };
+                if !list.is_some_and(|l| l.contains(&id)) {
+                    return bad(format!("owner {o:?} of {p:?} does not list it"));
+                }
+            }
+        }
+        let in_sets: usize = self.by_body.0.iter().map(|set| set.iter().count()).sum();
+        if in_sets != on_bodies {
+            return bad(format!(
+                "{in_sets} entries in the bodies' sets for {on_bodies} certificates on bodies"
+            ));
+        }
+        let lists = (self.owned_tri.iter().enumerate())
+            .map(|(i, l)| (Owner::Tri(TriId(i as u32)), l))
+            .chain(
+                (self.owned_corr.iter().enumerate())
+                    .map(|(i, l)| (Owner::Corr(CorrId(i as u32)), l)),
+            );
+        for (o, list) in lists {
+            for &id in list {
+                if !self.certs.at(id).is_some_and(|s| s.owners.contains(&o)) {
+                    return bad(format!("{o:?} lists a certificate it does not own"));
+                }
+            }
         }
         Ok(())
     }

@@ -20,7 +20,7 @@ use crate::world::BodyId;
 
 use super::instant::InstantState;
 use super::step::each_body;
-use super::{due_time, fingerprint, Fingerprint, Kinetic, Scheduled};
+use super::{due_time, fingerprint, CertId, Fingerprint, Kinetic, Scheduled};
 use crate::structure::local::MAX_CERTS;
 
 /// The certificate function of `c`, oriented so that it is positive while
@@ -304,22 +304,23 @@ pub(super) fn holds_until_bridge_end(
     (c0 + span * (c1 + span * c2)).sign() == Some(Sign::Positive)
 }
 
-/// [`Kinetic::enqueue`] on the queue alone (a certificate of the book may
-/// be borrowed meanwhile).
+/// Queue certificate `c` (stored under `id`) at its failure time after
+/// `now`, if it has one: its queue key and [`Scheduled::fp`]. On the queue
+/// alone (a certificate of the book may be borrowed meanwhile).
 fn enqueue_in(
-    queue: &mut EventQueue<Time, [Att; 3]>,
+    queue: &mut EventQueue<Time, CertId>,
     world: &Geo,
-    c: &Cert,
+    (c, id): (&Cert, CertId),
     now: &Time,
 ) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
-    enqueue_with(queue, world, c, now, cert_enclosure(world, c))
+    enqueue_with(queue, world, (c, id), now, cert_enclosure(world, c))
 }
 
 /// [`enqueue_in`] given `e`, the certificate's [`cert_enclosure`].
 fn enqueue_with(
-    queue: &mut EventQueue<Time, [Att; 3]>,
+    queue: &mut EventQueue<Time, CertId>,
     world: &Geo,
-    c: &Cert,
+    (c, id): (&Cert, CertId),
     now: &Time,
     e: Option<[Interval; 3]>,
 ) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
@@ -328,13 +329,13 @@ fn enqueue_with(
     };
     let root = !t.is_known_same(now);
     let fp = fingerprint(world, &c.p).map(|f| Box::new((f, root)));
-    (Some(queue.schedule(t, tie(world, &c.p), c.p)), fp)
+    (Some(queue.schedule(t, tie(world, &c.p), id)), fp)
 }
 
 /// [`Kinetic::due_now`] on the queue and the instant's state alone (a
 /// certificate of the book may be borrowed meanwhile).
 fn due_in(
-    queue: &EventQueue<Time, [Att; 3]>,
+    queue: &EventQueue<Time, CertId>,
     instant: &InstantState,
     p: &[Att; 3],
     key: Option<EventKey>,
@@ -393,93 +394,89 @@ impl Kinetic {
         // have just after `now` would swallow the failure when two fail at
         // one instant and the operation for the first touches the second
         let mut pending: BTreeMap<[Att; 3], Cert> = BTreeMap::new();
-        // `same[i]`: `fresh[i]` is a certificate that `o` owns already, as
-        // it is, either shared with another owner or not due at this
-        // instant: it keeps its place in the queue (its failure time
+        // `same[i]`: `fresh[i]` is a certificate that `o` owns already (its
+        // id), as it is, either shared with another owner or not due at
+        // this instant: it keeps its place in the queue (its failure time
         // depends only on its points) and its owners, `o` again last
-        let mut same = [false; MAX_CERTS];
-        for p in &old {
-            let Some(s) = self.certs.get_mut(p) else {
+        let mut same: [Option<CertId>; MAX_CERTS] = [None; MAX_CERTS];
+        for &id in &old {
+            let Some(s) = self.certs.at_mut(id) else {
                 continue;
             };
+            let p = s.cert.p;
             let shared = s.owners.iter().any(|&x| x != o);
             s.owners.retain(|x| *x != o);
             if let Some(i) = fresh.iter().position(|c| *c == s.cert) {
                 if shared
-                    || !(self.instant.handling == Some(*p)
-                        || due_in(&self.queue, &self.instant, p, s.key, now))
+                    || !(self.instant.handling == Some(p)
+                        || due_in(&self.queue, &self.instant, &p, s.key, now))
                 {
                     s.owners.push(o);
-                    same[i] = true;
+                    same[i] = Some(id);
                     continue;
                 }
             }
             if s.owners.is_empty() {
                 let (cert, key) = (s.cert, s.key);
-                let due = self.instant.handling == Some(*p) || self.due_now(p, key, now);
-                if self.instant.handling != Some(*p) && due {
-                    let s = &self.certs[p];
+                let due = self.instant.handling == Some(p) || self.due_now(&p, key, now);
+                if self.instant.handling != Some(p) && due {
+                    let s = self.certs.at(id).expect("stored");
                     let at = due_time(&self.queue, key, &s.popped);
                     if due_is_failing(world, &cert, (s.fp.as_deref(), at), now) {
-                        pending.insert(*p, cert);
+                        pending.insert(p, cert);
                     }
                 }
-                self.drop_cert(p);
+                self.drop_id(id);
             }
         }
-        let kept: arrayvec::ArrayVec<[Att; 3], MAX_CERTS> = (fresh.iter().zip(same))
-            .filter(|(_, same)| *same)
-            .map(|(c, _)| c.p)
-            .collect();
+        let kept: arrayvec::ArrayVec<CertId, MAX_CERTS> = same.iter().flatten().copied().collect();
         let mut mine = Vec::with_capacity(fresh.len());
         for (c, same) in fresh.into_iter().zip(same) {
-            if same {
-                mine.push(c.p);
+            if let Some(id) = same {
+                mine.push(id);
                 continue;
             }
             let c = match pending.get(&c.p) {
                 Some(old) if old.sign != c.sign => *old,
                 _ => c,
             };
-            match self.certs.get_mut(&c.p) {
-                // a certificate left without owners (a removal in progress)
-                // is taken over only as it is
-                Some(s) if s.owners.is_empty() && s.cert != c => {
-                    self.drop_cert(&c.p);
-                    self.schedule_new(world, c, o, now);
-                }
-                Some(s) if s.cert.sign != c.sign => {
-                    if self.instant.handling == Some(c.p) || !is_failing(world, &s.cert, now) {
-                        let e = format!(
-                            "contradictory certificates on {:?} ({:?} and {:?})",
-                            c.p, s.owners, o
-                        );
-                        // no owner list names `o`'s certificates kept above
-                        // any more: `o` leaves them, and those left
-                        // without an owner go
-                        for p in &kept {
-                            if let Some(s) = self.certs.get_mut(p) {
-                                s.owners.retain(|x| *x != o);
-                                if s.owners.is_empty() {
-                                    self.drop_cert(p);
-                                }
-                            }
-                        }
-                        return Err(StructureError::Local(e));
-                    }
-                    // the kept certificate fails now and will be handled
-                    if !s.owners.contains(&o) {
-                        s.owners.push(o);
-                    }
-                }
-                Some(s) => {
-                    if !s.owners.contains(&o) {
-                        s.owners.push(o);
-                    }
-                }
-                None => self.schedule_new(world, c, o, now),
+            let Some(id) = self.certs.id(&c.p) else {
+                mine.push(self.schedule_new(world, c, o, now));
+                continue;
+            };
+            let s = self.certs.at_mut(id).expect("indexed");
+            // a certificate left without owners (a removal in progress)
+            // is taken over only as it is
+            if s.owners.is_empty() && s.cert != c {
+                self.drop_id(id);
+                mine.push(self.schedule_new(world, c, o, now));
+                continue;
             }
-            mine.push(c.p);
+            if s.cert.sign != c.sign
+                && (self.instant.handling == Some(c.p) || !is_failing(world, &s.cert, now))
+            {
+                let e = format!(
+                    "contradictory certificates on {:?} ({:?} and {:?})",
+                    c.p, s.owners, o
+                );
+                // no owner list names `o`'s certificates kept above any
+                // more: `o` leaves them, and those left without an owner go
+                for &id in &kept {
+                    if let Some(s) = self.certs.at_mut(id) {
+                        s.owners.retain(|x| *x != o);
+                        if s.owners.is_empty() {
+                            self.drop_id(id);
+                        }
+                    }
+                }
+                return Err(StructureError::Local(e));
+            }
+            // (a kept certificate of the other sign fails now and will be
+            // handled)
+            if !s.owners.contains(&o) {
+                s.owners.push(o);
+            }
+            mine.push(id);
         }
         match o {
             Owner::Tri(t) => self.owned_tri[t.0 as usize] = mine,
@@ -489,34 +486,23 @@ impl Kinetic {
         Ok(())
     }
 
-    /// Queue certificate `c` at its failure time after `now`, if it has
-    /// one: its queue key and [`Scheduled::fp`].
-    pub(super) fn enqueue(
-        &mut self,
-        world: &Geo,
-        c: &Cert,
-        now: &Time,
-    ) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
-        enqueue_in(&mut self.queue, world, c, now)
-    }
-
-    /// Schedule certificate `c`, not yet known, for owner `o`.
-    pub(super) fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) {
-        let (key, fp) = self.enqueue(world, &c, now);
+    /// Schedule certificate `c`, not yet known, for owner `o`: its id.
+    pub(super) fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) -> CertId {
+        let id = self.certs.insert(Scheduled {
+            cert: c,
+            key: None,
+            owners: smallvec::smallvec![o],
+            fp: None,
+            popped: None,
+            idle: false,
+        });
+        let (key, fp) = enqueue_in(&mut self.queue, world, (&c, id), now);
+        let s = self.certs.at_mut(id).expect("just stored");
+        (s.key, s.fp) = (key, fp);
         for b in each_body(&c.p) {
-            self.by_body.at(b).insert(c.p);
+            self.by_body.at(b).insert(id);
         }
-        self.certs.insert(
-            c.p,
-            Scheduled {
-                cert: c,
-                key,
-                owners: smallvec::smallvec![o],
-                fp,
-                popped: None,
-                idle: false,
-            },
-        );
+        id
     }
 
     /// Whether the certificate on `p` (queued under `key`) can be failing at
@@ -527,14 +513,16 @@ impl Kinetic {
         due_in(&self.queue, &self.instant, p, key, now)
     }
 
-    pub(super) fn drop_cert(&mut self, p: &[Att; 3]) {
-        if let Some(s) = self.certs.remove(p) {
+    /// Drop the certificate with id `id` (if it is still stored): out of the
+    /// store, its bodies' sets and the queue.
+    pub(super) fn drop_id(&mut self, id: CertId) {
+        if let Some(s) = self.certs.remove(id) {
             if s.idle {
                 self.idle -= 1;
             }
-            for b in each_body(p) {
+            for b in each_body(&s.cert.p) {
                 if let Some(set) = self.by_body.get_mut(&b) {
-                    set.remove(p);
+                    set.remove(id);
                 }
             }
             if let Some(k) = s.key {
@@ -543,10 +531,10 @@ impl Kinetic {
         }
     }
 
-    /// Take the certificate on `p` out of the queue until the end of a
-    /// bridge of one of its bodies ([`holds_until_bridge_end`]).
-    pub(super) fn idle_until_bridge_end(&mut self, p: &[Att; 3]) {
-        if let Some(s) = self.certs.get_mut(p) {
+    /// Take certificate `id` out of the queue until the end of a bridge of
+    /// one of its bodies ([`holds_until_bridge_end`]).
+    pub(super) fn idle_until_bridge_end(&mut self, id: CertId) {
+        if let Some(s) = self.certs.at_mut(id) {
             if let Some(k) = s.key.take() {
                 self.queue.cancel(k);
             }
@@ -558,20 +546,24 @@ impl Kinetic {
         }
     }
 
+    /// Compute the failure time of the certificate on `p` again and queue
+    /// it there.
     pub(super) fn reschedule(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
-        self.reschedule_with(world, p, now, None);
+        if let Some(id) = self.certs.id(p) {
+            self.reschedule_id(world, id, now, None);
+        }
     }
 
-    /// [`Kinetic::reschedule`] given the certificate's [`cert_enclosure`]
-    /// (`Some(e)`; `None`: computed here).
-    pub(super) fn reschedule_with(
+    /// [`Kinetic::reschedule`] by id, given the certificate's
+    /// [`cert_enclosure`] (`Some(e)`; `None`: computed here).
+    pub(super) fn reschedule_id(
         &mut self,
         world: &Geo,
-        p: &[Att; 3],
+        id: CertId,
         now: &Time,
         e: Option<Option<[Interval; 3]>>,
     ) {
-        let Some(s) = self.certs.get_mut(p) else {
+        let Some(s) = self.certs.at_mut(id) else {
             return;
         };
         if s.idle {
@@ -582,22 +574,25 @@ impl Kinetic {
             self.queue.cancel(k);
         }
         let e = e.unwrap_or_else(|| cert_enclosure(world, &s.cert));
-        let (key, fp) = enqueue_with(&mut self.queue, world, &s.cert, now, e);
+        let (key, fp) = enqueue_with(&mut self.queue, world, (&s.cert, id), now, e);
         (s.key, s.fp, s.popped) = (key, fp, None);
         self.max_active = self.max_active.max(self.active_now());
     }
 
-    /// The certificates on body `b` that name one of `ids`.
-    pub(super) fn certs_naming(&self, b: BodyId, ids: &[Att]) -> Vec<[Att; 3]> {
-        let mut out: Vec<[Att; 3]> = self
+    /// The certificates on body `b` that name one of `ids`, in the order of
+    /// their points.
+    pub(super) fn certs_naming(&self, b: BodyId, ids: &[Att]) -> Vec<([Att; 3], CertId)> {
+        let mut out: Vec<([Att; 3], CertId)> = self
             .by_body
             .get(&b)
             .into_iter()
             .flatten()
-            .filter(|p| p.iter().any(|x| ids.contains(x)))
-            .copied()
+            .filter_map(|&id| {
+                let p = self.certs.at(id)?.cert.p;
+                p.iter().any(|x| ids.contains(x)).then_some((p, id))
+            })
             .collect();
-        out.sort_unstable();
+        out.sort_unstable_by_key(|&(p, _)| p);
         out
     }
 
@@ -605,7 +600,7 @@ impl Kinetic {
     pub(super) fn owners_naming(&self, b: BodyId, ids: &[Att]) -> BTreeSet<Owner> {
         self.certs_naming(b, ids)
             .iter()
-            .filter_map(|p| self.certs.get(p))
+            .filter_map(|&(_, id)| self.certs.at(id))
             .flat_map(|s| s.owners.iter().copied())
             .collect()
     }
@@ -623,16 +618,16 @@ impl Kinetic {
         for o in owners {
             self.refresh(geo, o, t)?;
         }
-        for p in &self.certs_naming(b, ids) {
-            self.reschedule(geo, p, t);
+        for (_, id) in self.certs_naming(b, ids) {
+            self.reschedule_id(geo, id, t, None);
         }
         Ok(())
     }
 
-    /// Rename owner `from` to `to` on certificates `ps`.
-    pub(super) fn rename(&mut self, ps: &[[Att; 3]], from: Owner, to: Owner) {
-        for p in ps {
-            if let Some(s) = self.certs.get_mut(p) {
+    /// Rename owner `from` to `to` on certificates `ids`.
+    pub(super) fn rename(&mut self, ids: &[CertId], from: Owner, to: Owner) {
+        for &id in ids {
+            if let Some(s) = self.certs.at_mut(id) {
                 for x in s.owners.iter_mut() {
                     if *x == from {
                         *x = to;
@@ -646,8 +641,10 @@ impl Kinetic {
     /// and not handled (a refinement replaced its failure).
     pub fn reschedule_idle(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
         let p = crate::structure::certs::rotate_to_min(*p);
-        if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
-            self.reschedule(world, &p, now);
+        if let Some(id) = self.certs.id(&p) {
+            if self.certs.at(id).is_some_and(|s| s.key.is_none()) {
+                self.reschedule_id(world, id, now, None);
+            }
         }
     }
 }

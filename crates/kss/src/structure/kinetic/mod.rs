@@ -38,11 +38,13 @@ mod instant;
 mod motion;
 mod repair;
 mod step;
+mod store;
 mod tally;
 
 pub use tally::{Rebuild, Tally};
 
 use instant::InstantState;
+use store::{CertId, CertStore};
 
 /// A hash map with a fixed hasher (the same order in every run).
 type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
@@ -57,8 +59,8 @@ type FastSet<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
 /// of a box). Unordered either way.
 #[derive(Clone, Debug)]
 enum CertSet {
-    Few(Vec<[Att; 3]>),
-    Many(FastSet<[Att; 3]>),
+    Few(Vec<CertId>),
+    Many(FastSet<CertId>),
 }
 
 /// The certificates on each body, indexed by body id ([`Kinetic::by_body`]):
@@ -102,40 +104,39 @@ impl Default for CertSet {
 }
 
 impl CertSet {
-    fn insert(&mut self, p: [Att; 3]) {
+    /// Add certificate `id`, which is not in the set.
+    fn insert(&mut self, id: CertId) {
         match self {
             CertSet::Few(v) => {
-                if v.contains(&p) {
-                    return;
-                }
+                debug_assert!(!v.contains(&id));
                 if v.len() < FEW_CERTS {
                     // (grown by a few at a time: doubling would leave up
                     // to half of a list of this size unused)
                     if v.len() == v.capacity() {
                         v.reserve_exact(8);
                     }
-                    v.push(p);
+                    v.push(id);
                 } else {
-                    let mut set: FastSet<[Att; 3]> = v.drain(..).collect();
-                    set.insert(p);
+                    let mut set: FastSet<CertId> = v.drain(..).collect();
+                    set.insert(id);
                     *self = CertSet::Many(set);
                 }
             }
             CertSet::Many(set) => {
-                set.insert(p);
+                set.insert(id);
             }
         }
     }
 
-    fn remove(&mut self, p: &[Att; 3]) {
+    fn remove(&mut self, id: CertId) {
         match self {
             CertSet::Few(v) => {
-                if let Some(i) = v.iter().position(|q| q == p) {
+                if let Some(i) = v.iter().position(|&q| q == id) {
                     v.swap_remove(i);
                 }
             }
             CertSet::Many(set) => {
-                set.remove(p);
+                set.remove(&id);
             }
         }
     }
@@ -157,14 +158,14 @@ impl CertSet {
 
 /// The iterator of a [`CertSet`].
 enum CertSetIter<'a> {
-    Few(std::slice::Iter<'a, [Att; 3]>),
-    Many(std::collections::hash_set::Iter<'a, [Att; 3]>),
+    Few(std::slice::Iter<'a, CertId>),
+    Many(std::collections::hash_set::Iter<'a, CertId>),
 }
 
 impl<'a> Iterator for CertSetIter<'a> {
-    type Item = &'a [Att; 3];
+    type Item = &'a CertId;
 
-    fn next(&mut self) -> Option<&'a [Att; 3]> {
+    fn next(&mut self) -> Option<&'a CertId> {
         match self {
             CertSetIter::Few(i) => i.next(),
             CertSetIter::Many(i) => i.next(),
@@ -173,7 +174,7 @@ impl<'a> Iterator for CertSetIter<'a> {
 }
 
 impl<'a> IntoIterator for &'a CertSet {
-    type Item = &'a [Att; 3];
+    type Item = &'a CertId;
     type IntoIter = CertSetIter<'a>;
 
     fn into_iter(self) -> CertSetIter<'a> {
@@ -213,7 +214,7 @@ struct Scheduled {
 /// The failure time a certificate is due at: its queued time, or the one it
 /// was popped at.
 fn due_time<'a>(
-    queue: &'a EventQueue<Time, [Att; 3]>,
+    queue: &'a EventQueue<Time, CertId>,
     key: Option<EventKey>,
     popped: &'a Option<Box<Time>>,
 ) -> Option<&'a Time> {
@@ -241,18 +242,19 @@ fn fingerprint(world: &Geo, p: &[Att; 3]) -> Option<Fingerprint> {
 pub struct Kinetic {
     /// The combinatorial structure.
     pub kss: Kss,
-    /// Hashed (with a fixed, deterministic hasher): looked up several times
-    /// per event; iterated only where the order does not matter or is
-    /// sorted first.
-    certs: FastMap<[Att; 3], Scheduled>,
+    /// Every certificate, by id and by its points ([`CertStore`]);
+    /// iterated only where the order does not matter or is sorted first.
+    certs: CertStore,
     /// The certificates that involve each body (for local rescheduling when
     /// a flight plan changes): unordered ([`CertSet`]), sorted where the
     /// order matters (it decides the queue's insertion order, the last
     /// tie-breaker).
     by_body: ByBody,
-    owned_tri: Vec<Vec<[Att; 3]>>,
-    owned_corr: Vec<Vec<[Att; 3]>>,
-    queue: EventQueue<Time, [Att; 3]>,
+    /// The certificates each partition triangle owns.
+    owned_tri: Vec<Vec<CertId>>,
+    /// The certificates each corridor owns.
+    owned_corr: Vec<Vec<CertId>>,
+    queue: EventQueue<Time, CertId>,
     /// Certificates out of the queue until a bridge ends (`Scheduled::idle`):
     /// counted as scheduled.
     idle: usize,
@@ -278,7 +280,7 @@ impl Kinetic {
         keys.sort();
         keys.into_iter()
             .map(|p| {
-                let s = &self.certs[p];
+                let s = self.certs.get(p).expect("a stored certificate");
                 let t = s
                     .key
                     .and_then(|k| self.queue.get(k).map(|(t, _)| t.clone()));
@@ -399,7 +401,7 @@ impl Kinetic {
     pub fn scheduled(&self) -> impl Iterator<Item = (&Time, &Cert)> + '_ {
         self.queue
             .iter()
-            .filter_map(|(_, t, _, p)| self.certs.get(p).map(|s| (t, &s.cert)))
+            .filter_map(|(_, t, _, &id)| self.certs.at(id).map(|s| (t, &s.cert)))
     }
 }
 

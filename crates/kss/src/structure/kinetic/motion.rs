@@ -17,7 +17,7 @@ use crate::world::BodyId;
 use super::book::{cert_enclosure, holds_until_bridge_end, is_failing};
 use super::instant::Broken;
 use super::tally::Rebuild;
-use super::{FastMap, Kinetic};
+use super::{CertId, FastMap, Kinetic};
 
 impl Kinetic {
     /// Bodies changed their motion at `now`: reschedule every certificate
@@ -42,30 +42,32 @@ impl Kinetic {
         let waiting = std::mem::take(&mut self.instant.waiting);
         // (in the order of `Att`, sorted as the points' words, which order
         // them alike and compare faster; equal triples are one certificate)
-        let mut words: Vec<[u64; 3]> = bodies
+        let mut words: Vec<([u64; 3], Option<CertId>)> = bodies
             .iter()
             .filter_map(|b| self.by_body.get(b))
             .flatten()
-            .chain(&waiting)
-            .map(|p| p.map(Att::word))
+            .filter_map(|&id| Some((self.certs.at(id)?.cert.p.map(Att::word), Some(id))))
+            .chain(waiting.iter().map(|p| (p.map(Att::word), self.certs.id(p))))
             .collect();
-        words.sort_unstable();
-        words.dedup();
-        let touched: Vec<[Att; 3]> = words.iter().map(|w| w.map(Att::from_word)).collect();
+        words.sort_unstable_by_key(|&(w, _)| w);
+        words.dedup_by_key(|&mut (w, _)| w);
+        let touched: Vec<[Att; 3]> = words.iter().map(|(w, _)| w.map(Att::from_word)).collect();
+        // (`ids[i]`: the id of `touched[i]`'s certificate, `None` if it has
+        // none; nothing below drops one before the last loop)
+        let ids: Vec<Option<CertId>> = words.iter().map(|&(_, id)| id).collect();
         // (a certificate that holds until a bridge of one of its bodies
         // ends is scheduled then, when that body's motion changes again;
         // `turning[i]`: the filter proved `touched[i]` a turn certificate
         // positive from now, so its turn is not zero at now)
-        // (`kinds[i]`: the kind of `touched[i]`'s certificate, `None` if it
-        // has none; nothing below drops one before the last loop)
+        // (`kinds[i]`: the kind of `touched[i]`'s certificate)
         // (`encl[i]`: the enclosure of `touched[i]`'s certificate function,
         // computed once for the bridge check, its failure time and the
         // filters below)
         let mut turning = vec![false; touched.len()];
         let mut kinds: Vec<Option<CertKind>> = Vec::with_capacity(touched.len());
         let mut encl: Vec<Option<[Interval; 3]>> = Vec::with_capacity(touched.len());
-        for (p, turning) in touched.iter().zip(&mut turning) {
-            let Some(cert) = self.certs.get(p).map(|s| s.cert) else {
+        for ((p, &id), turning) in touched.iter().zip(&ids).zip(&mut turning) {
+            let Some((id, cert)) = id.and_then(|id| Some((id, self.certs.at(id)?.cert))) else {
                 kinds.push(None);
                 encl.push(None);
                 continue;
@@ -74,11 +76,11 @@ impl Kinetic {
             let e = cert_enclosure(world, &cert);
             encl.push(e);
             if !waiting.contains(p) && holds_until_bridge_end(world, &cert, now, e) {
-                self.idle_until_bridge_end(p);
+                self.idle_until_bridge_end(id);
                 *turning = cert.kind != CertKind::Order;
                 continue;
             }
-            self.reschedule_with(world, p, now, Some(e));
+            self.reschedule_id(world, id, now, Some(e));
         }
         // A corridor with a junction straight at `now` was shaped by its
         // turns just after `now` under the old motions (an operation of this
@@ -113,7 +115,7 @@ impl Kinetic {
         // length zero, its corner the two ends' together; under the new
         // motions they may part, and the corridor's certificates are then
         // its two junctions again.
-        let resting = self.resting_now(world, &touched, now);
+        let resting = self.resting_now(world, &ids, now);
         #[cfg(feature = "trace")]
         if std::env::var_os("KSS_DUMP").is_some() {
             eprintln!("resting at {}: {resting:?}", now.to_f64());
@@ -196,10 +198,10 @@ impl Kinetic {
         };
         for &k in &resting {
             let mid = self.kss.corrs[k.0 as usize].mid;
-            let due = self.owned_corr[k.0 as usize].iter().any(|p| {
+            let due = self.owned_corr[k.0 as usize].iter().any(|&id| {
                 self.certs
-                    .get(p)
-                    .is_some_and(|s| self.due_now(p, s.key, now))
+                    .at(id)
+                    .is_some_and(|s| self.due_now(&s.cert.p, s.key, now))
             });
             if due {
                 continue;
@@ -218,7 +220,8 @@ impl Kinetic {
                         Obj::Omega => None,
                     })
                     .collect();
-                let first = self.owned_corr[k.0 as usize].first().copied();
+                let first = (self.owned_corr[k.0 as usize].first())
+                    .and_then(|&id| Some(self.certs.at(id)?.cert.p));
                 self.instant.broken = Some(Broken {
                     kind: Rebuild::Degenerate,
                     around: first.map(|p| (bodies, vec![p])),
@@ -234,10 +237,10 @@ impl Kinetic {
             let mid = self.kss.corrs[k.0 as usize].mid;
             // (a corridor with a failure still due at this instant is left to
             // that event's operation)
-            let due = self.owned_corr[k.0 as usize].iter().any(|p| {
+            let due = self.owned_corr[k.0 as usize].iter().any(|&id| {
                 self.certs
-                    .get(p)
-                    .is_some_and(|s| self.due_now(p, s.key, now))
+                    .at(id)
+                    .is_some_and(|s| self.due_now(&s.cert.p, s.key, now))
             });
             if due || self.kss.faces_valid(world, k, mid, now) {
                 continue;
@@ -321,7 +324,7 @@ impl Kinetic {
         out
     }
 
-    /// The corridors among the owners of certificates `ps` (and the
+    /// The corridors among the owners of certificates `ids` (and the
     /// corridors at their ends) in which two
     /// points of two bodies are at one place at `now`: the two ends of a
     /// bridge (an end or the middle one), two points of a junction (a chain
@@ -329,7 +332,12 @@ impl Kinetic {
     /// While they rest, a turn through both is zero and has no certificate;
     /// a motion change that parts them must give the corridor its
     /// certificates anew.
-    pub(super) fn resting_now(&self, world: &Geo, ps: &[[Att; 3]], now: &Time) -> BTreeSet<CorrId> {
+    pub(super) fn resting_now(
+        &self,
+        world: &Geo,
+        ids: &[Option<CertId>],
+        now: &Time,
+    ) -> BTreeSet<CorrId> {
         // (two points of two bodies whose boxes are apart at `now` do not
         // meet: the boxes first, each computed once)
         let ti = now.interval();
@@ -350,9 +358,9 @@ impl Kinetic {
         let meet = |x: Att, y: Att| {
             !apart(x.obj, y.obj) && crate::structure::faces::coincide_at(world, x, y, now)
         };
-        let mut owners: Vec<CorrId> = ps
+        let mut owners: Vec<CorrId> = ids
             .iter()
-            .filter_map(|p| self.certs.get(p))
+            .filter_map(|&id| self.certs.at(id?))
             .flat_map(|s| s.owners.iter())
             .filter_map(|o| match *o {
                 Owner::Corr(k) => Some(k),

@@ -3,7 +3,7 @@
 //! a degenerate instant, the rebuild for just after an instant, and the
 //! hierarchy's coarsening (merges) after an operation.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use crate::num::{Sign, Time};
 use crate::structure::geo::Geo;
@@ -15,7 +15,7 @@ use crate::world::BodyId;
 use super::book::{cert_poly, due_is_failing, resting_flat};
 use super::instant::Broken;
 use super::tally::Rebuild;
-use super::{due_time, Kinetic};
+use super::{due_time, CertId, Kinetic};
 
 /// The local repair's candidate sets ([`Kinetic::repair_around`]): queue
 /// `set` grown by the bodies `more` (with the number of growth rounds that
@@ -232,14 +232,15 @@ impl Kinetic {
         // without computing their failure times again, but the refined
         // approximation vertices moved: every certificate on these bodies
         // is scheduled anew
-        let on_bodies: BTreeSet<[Att; 3]> = bodies
+        // (in the order of their points)
+        let on_bodies: BTreeMap<[Att; 3], CertId> = bodies
             .iter()
             .filter_map(|b| self.by_body.get(b))
             .flatten()
-            .copied()
+            .filter_map(|&id| Some((self.certs.at(id)?.cert.p, id)))
             .collect();
-        for p in &on_bodies {
-            self.reschedule(world, p, now);
+        for &id in on_bodies.values() {
+            self.reschedule_id(world, id, now, None);
         }
         true
     }
@@ -416,7 +417,7 @@ impl Kinetic {
         // moment: the new triangles and corridors take over the ones they
         // share (most of a merged corridor's junctions) without computing
         // their failure times again
-        let mut orphans: Vec<[Att; 3]> = Vec::new();
+        let mut orphans: Vec<CertId> = Vec::new();
         let dead = (plan.dead_tris.iter().map(|&t| Owner::Tri(t)))
             .chain(plan.dead_corrs.iter().map(|&k| Owner::Corr(k)));
         for o in dead {
@@ -424,11 +425,11 @@ impl Kinetic {
                 Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
                 Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
             };
-            for p in mine {
-                if let Some(s) = self.certs.get_mut(&p) {
+            for id in mine {
+                if let Some(s) = self.certs.at_mut(id) {
                     s.owners.retain(|x| *x != o);
                     if s.owners.is_empty() {
-                        orphans.push(p);
+                        orphans.push(id);
                     }
                 }
             }
@@ -469,11 +470,11 @@ impl Kinetic {
         // (certificates taken over as they were: if one fails now, it did
         // before the removal too, and is handled as an event of this instant)
         let mut adopted: BTreeSet<[Att; 3]> = BTreeSet::new();
-        for p in orphans {
-            match self.certs.get(&p) {
-                Some(s) if s.owners.is_empty() => self.drop_cert(&p),
-                Some(_) => {
-                    adopted.insert(p);
+        for id in orphans {
+            match self.certs.at(id) {
+                Some(s) if s.owners.is_empty() => self.drop_id(id),
+                Some(s) => {
+                    adopted.insert(s.cert.p);
                 }
                 None => {}
             }
@@ -496,7 +497,7 @@ impl Kinetic {
             .flatten()
             .map(|&p| crate::structure::certs::rotate_to_min(p))
             .collect();
-        let fresh: Vec<[Att; 3]> = spliced
+        let fresh: Option<Vec<[Att; 3]>> = spliced
             .tris
             .iter()
             .flat_map(|t| &self.owned_tri[t.0 as usize])
@@ -506,8 +507,11 @@ impl Kinetic {
                     .iter()
                     .flat_map(|k| &self.owned_corr[k.0 as usize]),
             )
-            .copied()
+            .map(|&id| self.certs.at(id).map(|s| s.cert.p))
             .collect();
+        let Some(fresh) = fresh else {
+            return Ok(false);
+        };
         for p in &fresh {
             let Some(s) = self.certs.get(p) else {
                 return Ok(false);
@@ -679,13 +683,15 @@ impl Kinetic {
                     return true;
                 };
                 by_body.get(&b).is_some_and(|set| {
-                    set.iter().any(|p| {
+                    set.iter().any(|&id| {
+                        let Some(s) = certs.at(id) else {
+                            return false;
+                        };
+                        let p = &s.cert.p;
                         p.contains(&kv)
                             || (p.contains(&qv)
-                                && certs.get(p).is_none_or(|s| {
-                                    s.key.is_none_or(|key| {
-                                        queue.get(key).is_some_and(|(tq, _)| tq == t)
-                                    })
+                                && s.key.is_none_or(|key| {
+                                    queue.get(key).is_some_and(|(tq, _)| tq == t)
                                 }))
                     })
                 })

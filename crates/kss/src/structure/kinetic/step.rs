@@ -201,16 +201,17 @@ impl Kinetic {
             }
             return self.handle_or_rebuild(world, p, t, contacts, collides);
         }
-        let Some((key, t, tie, p)) = head else {
+        let Some((key, t, tie, id)) = head else {
             return Ok(Step::Idle);
         };
         if &t > limit {
             return Ok(Step::Idle);
         }
         self.queue.pop();
-        let s = self.certs.get_mut(&p).ok_or_else(|| {
-            StructureError::Invariant(format!("queued certificate {p:?} unknown"))
+        let s = self.certs.at_mut(id).ok_or_else(|| {
+            StructureError::Invariant(format!("queued certificate {id:?} unknown"))
         })?;
+        let p = s.cert.p;
         if s.key != Some(key) {
             return Err(StructureError::Local(format!(
                 "certificate {p:?} scheduled twice"

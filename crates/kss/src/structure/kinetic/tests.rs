@@ -32,6 +32,48 @@ fn scheduled_certificates_audit_clean_before_the_first_event() {
     assert!(audited > 150, "{audited}");
 }
 
+/// The audit checks the certificates' ids, not only their records: a
+/// body's set, an owner's list or the queue's payload that lost or
+/// changed an id is reported.
+#[test]
+fn the_audit_reports_ids_out_of_step_with_the_records() {
+    let s = generate_small(Family::ALL[0], 1);
+    let world = World::new(&s, None).unwrap();
+    let world = Geo::plain(&world);
+    let fresh = || Kinetic::new(&world, &Rational::zero()).unwrap();
+    let k = fresh();
+    let now = Time::zero();
+    let next = k.next_time().cloned().expect("a scheduled failure");
+    assert!(next > now);
+    let at = now.rational_between(&next);
+    k.audit(&world, &now, &at).unwrap();
+    let (id, p, owner) = k
+        .certs
+        .iter()
+        .find(|(_, s)| s.key.is_some())
+        .map(|(id, s)| (id, s.cert.p, s.owners[0]))
+        .expect("a queued certificate");
+    let other = k.certs.iter().map(|(id, _)| id).find(|&x| x != id).unwrap();
+    // a body's set without it
+    let mut k = fresh();
+    let b = step::each_body(&p).next().unwrap();
+    k.by_body.at(b).remove(id);
+    assert!(k.audit(&world, &now, &at).is_err());
+    // its owner's list without it
+    let mut k = fresh();
+    let list = match owner {
+        Owner::Tri(t) => &mut k.owned_tri[t.0 as usize],
+        Owner::Corr(c) => &mut k.owned_corr[c.0 as usize],
+    };
+    list.retain(|&x| x != id);
+    assert!(k.audit(&world, &now, &at).is_err());
+    // its queued event naming another certificate
+    let mut k = fresh();
+    let key = k.certs.at(id).unwrap().key.unwrap();
+    *k.queue.payload_mut(key).unwrap() = other;
+    assert!(k.audit(&world, &now, &at).is_err());
+}
+
 /// Calls `f` with a view of the scene of each family and seed below
 /// `seeds`, plain and with every polygon approximated, and the vertices
 /// (real or approximation) of its first `bodies` bodies.

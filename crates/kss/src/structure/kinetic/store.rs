@@ -1,0 +1,139 @@
+//! The certificate store: every certificate's [`Scheduled`] record in a
+//! slab (a generational [`slotmap::SlotMap`]), found by its [`CertId`] (the queue's payloads, the owners' lists
+//! and the bodies' sets hold ids, so the event loop reaches a record with
+//! one indexed load) or by its three points (a hashed index, asked when an
+//! owner's refresh looks for a certificate it may share with another).
+
+use super::{FastMap, Scheduled};
+use crate::structure::Att;
+
+slotmap::new_key_type! {
+    /// A certificate's place in the [`CertStore`]: a slot and its version.
+    /// A slot is reused after its certificate is dropped; an id kept past
+    /// that (an owner's list that still names a dropped certificate) no
+    /// longer finds anything.
+    pub(super) struct CertId;
+}
+
+/// The certificates of the structure: a slab of records (a
+/// [`slotmap::SlotMap`]) and an index from the three points to the id.
+#[derive(Debug, Default)]
+pub(super) struct CertStore {
+    slots: slotmap::SlotMap<CertId, Scheduled>,
+    index: FastMap<[Att; 3], CertId>,
+}
+
+impl CertStore {
+    /// The number of certificates.
+    pub(super) fn len(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The id of the certificate on `p`, if there is one.
+    pub(super) fn id(&self, p: &[Att; 3]) -> Option<CertId> {
+        self.index.get(p).copied()
+    }
+
+    /// The certificate on `p`.
+    pub(super) fn get(&self, p: &[Att; 3]) -> Option<&Scheduled> {
+        self.at(self.id(p)?)
+    }
+
+    /// The certificate on `p`, to change.
+    pub(super) fn get_mut(&mut self, p: &[Att; 3]) -> Option<&mut Scheduled> {
+        let id = self.id(p)?;
+        self.at_mut(id)
+    }
+
+    /// The certificate with id `id` (`None` once it is dropped).
+    pub(super) fn at(&self, id: CertId) -> Option<&Scheduled> {
+        self.slots.get(id)
+    }
+
+    /// The certificate with id `id`, to change.
+    pub(super) fn at_mut(&mut self, id: CertId) -> Option<&mut Scheduled> {
+        self.slots.get_mut(id)
+    }
+
+    /// Store `s`, which must be on points that have no certificate yet.
+    pub(super) fn insert(&mut self, s: Scheduled) -> CertId {
+        let p = s.cert.p;
+        let id = self.slots.insert(s);
+        let old = self.index.insert(p, id);
+        debug_assert!(old.is_none(), "two certificates on {p:?}");
+        id
+    }
+
+    /// Take the certificate with id `id` out of the store.
+    pub(super) fn remove(&mut self, id: CertId) -> Option<Scheduled> {
+        let s = self.slots.remove(id)?;
+        self.index.remove(&s.cert.p);
+        Some(s)
+    }
+
+    /// Every certificate with its id, in no particular order.
+    pub(super) fn iter(&self) -> impl Iterator<Item = (CertId, &Scheduled)> + '_ {
+        self.slots.iter()
+    }
+
+    /// Every certificate's points, in no particular order.
+    pub(super) fn keys(&self) -> impl Iterator<Item = &[Att; 3]> + '_ {
+        self.index.keys()
+    }
+
+    /// Every certificate, in no particular order.
+    pub(super) fn values(&self) -> impl Iterator<Item = &Scheduled> + '_ {
+        self.slots.values()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::num::Sign;
+    use crate::structure::certs::{Cert, CertKind};
+    use crate::structure::ops::Owner;
+    use crate::structure::{Obj, TriId};
+    use crate::world::BodyId;
+
+    fn rec(v: u32) -> Scheduled {
+        let a = |b: u32, v: u32| Att {
+            obj: Obj::Body(BodyId(b)),
+            v,
+        };
+        Scheduled {
+            cert: Cert {
+                p: [a(0, v), a(1, v), a(2, v)],
+                sign: Sign::Positive,
+                kind: CertKind::Triangle,
+            },
+            key: None,
+            owners: smallvec::smallvec![Owner::Tri(TriId(v))],
+            fp: None,
+            popped: None,
+            idle: false,
+        }
+    }
+
+    #[test]
+    fn a_dropped_certificates_id_finds_nothing_after_its_slot_is_reused() {
+        let mut store = CertStore::default();
+        let a = store.insert(rec(1));
+        let b = store.insert(rec(2));
+        assert_eq!(store.len(), 2);
+        let p1 = store.at(a).expect("stored").cert.p;
+        assert_eq!(store.id(&p1), Some(a));
+        assert!(store.remove(a).is_some());
+        assert!(store.at(a).is_none());
+        assert!(store.get(&p1).is_none());
+        assert!(store.remove(a).is_none());
+        let c = store.insert(rec(3));
+        assert_ne!(c, a, "the reused slot has a new generation");
+        assert!(store.at(a).is_none());
+        assert_eq!(store.at(c).map(|s| s.owners[0]), Some(Owner::Tri(TriId(3))));
+        assert_eq!(store.at(b).map(|s| s.owners[0]), Some(Owner::Tri(TriId(2))));
+        assert_eq!(store.len(), 2);
+        assert_eq!(store.values().count(), 2);
+        assert_eq!(store.keys().count(), 2);
+    }
+}
