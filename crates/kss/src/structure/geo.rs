@@ -144,6 +144,10 @@ pub struct Approx {
     pub exposed: Exposed,
     /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
     pub memo: EnclosureMemo,
+    /// The box of its vertices in the body's grid coordinates, for the
+    /// exposed set's [`Exposed::version`] it was computed for
+    /// ([`Geo::loose_box`]).
+    pub grid_box: std::cell::Cell<Option<(u64, [Interval; 2])>>,
 }
 
 /// The slot of a direct-mapped table of `len` entries (a power of two)
@@ -903,6 +907,51 @@ impl<'a> Geo<'a> {
     pub fn enclose(&self, a: Att, t: Interval) -> Option<[Interval; 2]> {
         let [x0, x1, y0, y1] = self.enclose_linear(a)?;
         Some([x0 + x1 * t, y0 + y1 * t])
+    }
+
+    /// A box `[x, y]` that holds, at any time in `t`, every vertex that
+    /// body `b` is seen with, as [`Geo::seen_box`], but for an
+    /// approximation the box of its vertices in the body's grid (kept
+    /// until the approximation changes) placed by the frame: O(1) per call
+    /// instead of an enclosure per vertex, and looser (a filter's box).
+    pub fn loose_box(&self, b: BodyId, t: Interval) -> Option<[Interval; 2]> {
+        let Some(ap) = self.shapes.approx(b) else {
+            return self.seen_box(b, t);
+        };
+        let version = ap.exposed.version();
+        let grid = match ap.grid_box.get() {
+            Some((v, g)) if v == version => g,
+            _ => {
+                let body = &self.world.body(b).shape;
+                let mut out: Option<[Interval; 2]> = None;
+                for k in ap.exposed.iter().filter(|&k| !ap.hidden(k)) {
+                    let Some(e) = ap.array.vertex_enclose(body, &ap.exposed, k) else {
+                        return self.seen_box(b, t);
+                    };
+                    out = Some(match out {
+                        None => e,
+                        Some(o) => [o[0].hull(&e[0]), o[1].hull(&e[1])],
+                    });
+                }
+                let g = out?;
+                ap.grid_box.set(Some((version, g)));
+                g
+            }
+        };
+        let [x, y] = self.world.body(b).frame.enclose(grid[0], grid[1], t);
+        let out = [x, y]
+            .iter()
+            .all(|i| i.lo.is_finite() && i.hi.is_finite())
+            .then_some([x, y]);
+        #[cfg(debug_assertions)]
+        if let (Some(o), Some(s)) = (out, self.seen_box(b, t)) {
+            let holds = |o: Interval, s: Interval| o.lo <= s.lo && s.hi <= o.hi;
+            debug_assert!(
+                holds(o[0], s[0]) && holds(o[1], s[1]),
+                "the loose box {o:?} of {b:?} misses part of its box {s:?}"
+            );
+        }
+        out
     }
 
     /// A box `[x, y]` that holds, at any time in `t`, every vertex that

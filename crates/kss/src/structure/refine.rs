@@ -55,6 +55,7 @@ pub fn coarsest_shape(b: &Body, above: usize) -> Option<Approx> {
             array,
             exposed,
             memo,
+            grid_box: Default::default(),
         }
     })
 }

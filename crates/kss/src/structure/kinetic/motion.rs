@@ -346,7 +346,7 @@ impl Kinetic {
             *boxes
                 .borrow_mut()
                 .entry(b)
-                .or_insert_with(|| world.seen_box(b, ti))
+                .or_insert_with(|| world.loose_box(b, ti))
         };
         let apart = |x: Obj, y: Obj| match (x, y) {
             (Obj::Body(p), Obj::Body(q)) if p != q => match (seen(p), seen(q)) {
