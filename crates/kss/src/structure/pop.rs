@@ -622,7 +622,7 @@ impl Kss {
                     let at = match rings.iter().position(|r| r.0 == b) {
                         Some(at) => at,
                         None => {
-                            rings.push((b, ring_of(geo, b, tiv)));
+                            rings.push((b, ring_of(geo, b)));
                             rings.len() - 1
                         }
                     };
@@ -705,18 +705,13 @@ impl Kss {
 /// body `b` as `geo` sees it, by the signs `sign` (exact, at or just beside
 /// an instant): no separating line among the segment's line and the
 /// body's edge lines.
-/// A body's vertices as the structure sees them, counter-clockwise, each
-/// with its midpoint and radius at the instant (for the cheap filter).
-type Ring = Vec<(Att, Option<MidRad>)>;
+/// A body's vertices as the structure sees them, counter-clockwise (each
+/// placed at the instant only when a test reads it: the search for a
+/// separating edge nearly always reads a few).
+type Ring = Vec<Att>;
 
-fn ring_of(geo: &Geo, b: crate::world::BodyId, t: crate::num::Interval) -> Ring {
-    geo.ids(b)
-        .into_iter()
-        .map(|v| {
-            let a = Att::vertex(b, v);
-            (a, geo.mid_rad(a, t))
-        })
-        .collect()
+fn ring_of(geo: &Geo, b: crate::world::BodyId) -> Ring {
+    geo.ids(b).into_iter().map(|v| Att::vertex(b, v)).collect()
 }
 
 /// Whether segment `pq` crosses the interior of the polygon `ring` (of the
@@ -732,8 +727,7 @@ fn segment_crosses(
     sign: &dyn Fn([Att; 3]) -> Sign,
 ) -> bool {
     let m = ring.len();
-    let mr = |a: Att| geo.mid_rad(a, t);
-    let (mp, mq) = (mr(p), mr(q));
+    let placed = |a: Att| (a, geo.mid_rad(a, t));
     let tn = |(a, ma): (Att, Option<MidRad>),
               (b, mb): (Att, Option<MidRad>),
               (c, mc): (Att, Option<MidRad>)| {
@@ -745,12 +739,12 @@ fn segment_crosses(
         }
         sign([a, b, c])
     };
-    let (p, q) = ((p, mp), (q, mq));
+    let (p, q) = (placed(p), placed(q));
     // an edge line (counter-clockwise ring: outside is negative) with both
     // ends of the segment on its closed outer side: no crossing. Looked for
     // first, from the edges at `x` (the triangle's corner on the body,
     // facing the segment) outwards, where one almost always is
-    let at = ring.iter().position(|&(v, _)| v == x).unwrap_or(0);
+    let at = ring.iter().position(|&v| v == x).unwrap_or(0);
     let separating = (0..m)
         .map(|d| {
             // d = 0, 1, 2, 3, …: the edges at `at`, alternately after and before
@@ -758,7 +752,7 @@ fn segment_crosses(
             (at + off) % m
         })
         .any(|j| {
-            let (u, w) = (ring[j], ring[(j + 1) % m]);
+            let (u, w) = (placed(ring[j]), placed(ring[(j + 1) % m]));
             tn(u, w, p) != Sign::Positive && tn(u, w, q) != Sign::Positive
         });
     if separating {
@@ -767,7 +761,7 @@ fn segment_crosses(
     // the segment's line: the body on one closed side
     let (mut pos, mut neg) = (false, false);
     for &v in ring {
-        match tn(p, q, v) {
+        match tn(p, q, placed(v)) {
             Sign::Positive => pos = true,
             Sign::Negative => neg = true,
             Sign::Zero => {}
