@@ -1420,6 +1420,50 @@ fn minkowski_edges_big(
     });
 }
 
+/// The edge of `M = B ⊕ (−A)` ([`for_each_minkowski_edge`]) from edge
+/// `source` (`Ok(j)`: edge `j` of `b`; `Err(i)`: edge `i` of `a`,
+/// reversed) with `other` as the other polygon's vertex at it, computed
+/// alone, with the same integers the whole walk gives that edge, and the
+/// common exponent. Whether `other` is the vertex the walk pairs with
+/// `source` is the caller's to know.
+pub(crate) fn minkowski_edge_of(
+    a: &BodyPolygon,
+    b: &BodyPolygon,
+    source: Result<usize, usize>,
+    other: usize,
+) -> (MinkowskiEdge, i64) {
+    let exp = a.exp.min(b.exp);
+    let (sa, sb) = ((a.exp - exp) as usize, (b.exp - exp) as usize);
+    let (n, m) = (a.len(), b.len());
+    let av = |i: usize| (&a.xs[i] << sa, &a.ys[i] << sa);
+    let bv = |j: usize| (&b.xs[j] << sb, &b.ys[j] << sb);
+    // (the walk's current vertex of `M` at the edge is b_j − a_i)
+    let ((ex, ey), (vx, vy)) = match source {
+        Ok(j) => {
+            let ((x0, y0), (x1, y1)) = (bv(j), bv((j + 1) % m));
+            let (ax, ay) = av(other);
+            ((x1 - &x0, y1 - &y0), (x0 - ax, y0 - ay))
+        }
+        Err(i) => {
+            let ((x0, y0), (x1, y1)) = (av(i), av((i + 1) % n));
+            let (bx, by) = bv(other);
+            ((&x0 - x1, &y0 - y1), (bx - x0, by - y0))
+        }
+    };
+    let (nx, ny) = (ey, -ex);
+    let h = &nx * &vx + &ny * &vy;
+    (
+        MinkowskiEdge {
+            nx,
+            ny,
+            h,
+            source,
+            other,
+        },
+        exp,
+    )
+}
+
 /// The merge behind [`for_each_minkowski_edge`]: the `m` edges of `B` and
 /// the `n` reversed edges of `A` in counter-clockwise order of angle, from
 /// the least-angled of each (`first`: `(i0, j0)`), B's edge first on a tie

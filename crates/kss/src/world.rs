@@ -181,6 +181,10 @@ struct Change {
 /// Where two touching bodies touch.
 #[derive(Clone, Debug)]
 struct ContactGeometry {
+    /// The one vertex the polygons share, when a hint proved that they
+    /// touch there only (a vertex of `b`: `true`, or of `a`, and its
+    /// index); `None` from the pass over `M`.
+    single: Option<(bool, usize)>,
     /// The contract's normal, from `a` to `b`.
     normal: Point,
     /// Normals (from `a` to `b`) of the edges of `M` active at the contact.
@@ -220,7 +224,34 @@ pub struct World {
     /// The Minkowski differences of recent pairs of large polygons
     /// ([`World::minkowski`]).
     minkowski: MinkowskiCache,
+    /// Where a structure found contacts of the latest instant
+    /// ([`World::hint_contact`]).
+    hints: ContactHints,
 }
+
+/// A contact as a structure found it: at `t`, vertex `vertex.1` of body
+/// `vertex.0` on edge `edge.1` (from vertex `edge.1` to the next) of body
+/// `edge.0`. Only a hint: [`World::contact`] checks it exactly.
+#[derive(Clone, Debug)]
+struct ContactHint {
+    t: Rational,
+    vertex: (BodyId, usize),
+    edge: (BodyId, usize),
+}
+
+/// The hints of the latest instant (a few: one per contact; a clone starts
+/// empty).
+#[derive(Debug, Default)]
+struct ContactHints(std::sync::Mutex<Vec<ContactHint>>);
+
+impl Clone for ContactHints {
+    fn clone(&self) -> ContactHints {
+        ContactHints::default()
+    }
+}
+
+/// The most hints kept for one instant.
+const MAX_HINTS: usize = 16;
 
 /// The edges of `M = B ⊕ (−A)` for a pair of body polygons, with their
 /// common exponent ([`crate::geom::minkowski_edges_filtered`]).
@@ -445,6 +476,7 @@ impl World {
             bounce_rounds: BTreeMap::new(),
             last_contact: ContactMemo::default(),
             minkowski: MinkowskiCache::default(),
+            hints: ContactHints::default(),
         };
         if let Some((a, b)) = world.first_overlap_at_zero() {
             return Err(ScenarioError::Overlap {
@@ -940,6 +972,132 @@ impl World {
     }
 
     fn contact_fresh(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
+        if let Some(c) = self.contact_hinted(a, b, t) {
+            #[cfg(debug_assertions)]
+            {
+                let full = self.contact_pass(a, b, t).expect("a proved contact");
+                debug_assert!(
+                    (&full.normal, &full.edge_normals, &full.features)
+                        == (&c.normal, &c.edge_normals, &c.features),
+                    "the hinted contact of {a:?} and {b:?} at {t} is not the pass's: {c:?} {full:?}"
+                );
+            }
+            return Some(c);
+        }
+        self.contact_pass(a, b, t)
+    }
+
+    /// Note that a structure found, at `t`, vertex `vertex.1` of body
+    /// `vertex.0` touching edge `edge.1` of body `edge.0` (real polygon
+    /// indices): [`World::contact`] of the pair at `t` tries it first, with
+    /// a few exact tests instead of a pass over the Minkowski difference.
+    /// A wrong hint costs those tests and changes nothing.
+    pub(crate) fn hint_contact(
+        &self,
+        t: &Rational,
+        vertex: (BodyId, usize),
+        edge: (BodyId, usize),
+    ) {
+        let mut hints = self
+            .hints
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if hints.first().is_some_and(|h| &h.t != t) {
+            hints.clear();
+        }
+        if hints.len() < MAX_HINTS {
+            hints.push(ContactHint {
+                t: t.clone(),
+                vertex,
+                edge,
+            });
+        }
+    }
+
+    /// The contact of `a` and `b` at `t` from a hint ([`World::hint_contact`]),
+    /// if one names the pair and the exact tests prove that the polygons
+    /// share exactly its vertex, inside its edge: the vertex on the edge's
+    /// line (the same test as [`World::contact_pass`]'s), strictly between
+    /// the edge's ends (inside the polygon's two neighbouring edges), and
+    /// its own two neighbours strictly beyond the line. Then the pair's only
+    /// active edge of `M` is the one of the hinted edge, and the pass would
+    /// find exactly this contact.
+    fn contact_hinted(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
+        let hint = {
+            let hints = self
+                .hints
+                .0
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            hints
+                .iter()
+                .find(|h| {
+                    &h.t == t
+                        && ((h.vertex.0, h.edge.0) == (a, b) || (h.vertex.0, h.edge.0) == (b, a))
+                })?
+                .clone()
+        };
+        let ((p, v), (q, j)) = (hint.vertex, hint.edge);
+        let (bp, bq) = (self.body(p), self.body(q));
+        let (np, nq) = (bp.shape.len(), bq.shape.len());
+        if v >= np || j >= nq {
+            return None;
+        }
+        let tt = Time::from_rational(t.clone());
+        let tiv = tt.interval();
+        let enclose = |body: &Body, i: usize| {
+            let [x, y] = body.shape.int_vertex_enclosure(i);
+            body.frame.enclose(x, y, tiv)
+        };
+        // the sign of orient(q_i, q_{i+1}, p_k) at `t`: the filter, then
+        // the exact polynomial
+        let side = |i: usize, k: usize| {
+            let (i1, k) = ((i + 1) % nq, k % np);
+            crate::geom::orient_enclosed(enclose(bq, i), enclose(bq, i1), enclose(bp, k))
+                .unwrap_or_else(|| {
+                    crate::motion::orient_poly(&bq.vertex(i), &bq.vertex(i1), &bp.vertex(k))
+                        .sign_at(&tt)
+                })
+        };
+        let clear = side((j + nq - 1) % nq, v) == Sign::Positive
+            && side((j + 1) % nq, v) == Sign::Positive
+            && side(j, v + np - 1) == Sign::Negative
+            && side(j, v + 1) == Sign::Negative;
+        if !clear {
+            return None;
+        }
+        // the edge of `M = B ⊕ (−A)` of the hinted edge
+        let (ba, bb) = (self.body(a), self.body(b));
+        let source = if q == b { Ok(j) } else { Err(j) };
+        let (e, exp) = crate::geom::minkowski_edge_of(&ba.shape, &bb.shape, source, v);
+        let crate::geom::MinkowskiEdge { nx, ny, h, .. } = e;
+        // d = pos_a − pos_b on the edge's line: the pass's exact test
+        let [(xn, xd), (yn, yd)] = relative_position(&ba.traj, &bb.traj, t);
+        let (lshift, rshift) = if exp < 0 {
+            ((-exp) as usize, 0)
+        } else {
+            (0, exp as usize)
+        };
+        let lhs = (&xn * &nx * &yd + &yn * &ny * &xd) << lshift;
+        let rhs = (&h * &(&xd * &yd)) << rshift;
+        if lhs != rhs {
+            return None;
+        }
+        let normal = Point {
+            x: Rational::from_int(-nx),
+            y: Rational::from_int(-ny),
+        };
+        Some(ContactGeometry {
+            single: Some((p == b, v)),
+            edge_normals: vec![normal.clone()],
+            normal,
+            features: vec![(source, v)],
+        })
+    }
+
+    /// [`World::contact`] by a pass over the edges of `M`.
+    fn contact_pass(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
         let (ba, bb) = (self.body(a), self.body(b));
         // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A), as
         // fractions xn / xd and yn / yd that are not reduced (no gcd)
@@ -1009,6 +1167,7 @@ impl World {
             cb.sub(&ca)
         };
         Some(ContactGeometry {
+            single: None,
             normal,
             edge_normals,
             features,
@@ -1023,6 +1182,12 @@ impl World {
         let Some(c) = self.contact(a, b, t) else {
             return ba.traj.position_at(t).add(ba.centroid()).to_f64();
         };
+        // (the one shared vertex, when the contact proved it: the pass
+        // below would find it the only candidate on both polygons)
+        if let Some((on_b, i)) = c.single {
+            let body = if on_b { bb } else { ba };
+            return centroid_f64(&[body.vertex(i).at_to_f64(t)]);
+        }
         let (na, nb) = (ba.shape.len(), bb.shape.len());
         // each candidate against every edge of both polygons: the f64
         // filter on enclosures of the positions at `t` first, the exact
@@ -1460,6 +1625,63 @@ mod tests {
 
     fn bodies(s: &Scenario) -> World {
         World::new(s, None).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// A 2×2 square at the origin, at rest, and a triangle whose apex
+    /// `(0, 1)` starts at `(3, dy + 1)` moving left at speed 1: at t = 1
+    /// the apex reaches the square's right edge (edge 1, from `(2, 0)` to
+    /// `(2, 2)`), inside it for `dy = 0`, at its corner `(2, 2)` for
+    /// `dy = 1`.
+    fn apex_on_edge(dy: f64) -> World {
+        let mut tri = square("t", 1.0, 3.0, -1.0);
+        tri.vertices = vec![[0.0, 1.0], [1.0, 0.0], [1.0, 2.0]];
+        tri.position = [3.0, dy];
+        let s = Scenario {
+            until: 4.0,
+            on_collision: CollisionMode::Bounce,
+            polygons: vec![square("s", 2.0, 0.0, 0.0), tri],
+            ..Scenario::default()
+        };
+        bodies(&s)
+    }
+
+    /// A hint that names the contact's vertex and edge gives the pass's
+    /// contact and point; one that does not, or at another instant, or a
+    /// vertex on a corner, is refused and the pass answers.
+    #[test]
+    fn a_hinted_contact_is_the_pass_and_a_wrong_hint_is_refused() {
+        let (sq, tri) = (BodyId(0), BodyId(1));
+        let one = Rational::from_int(Int::from(1));
+        let w = apex_on_edge(0.0);
+        let pass = w.contact_pass(sq, tri, &one).expect("they touch at t = 1");
+        // (the triangle's vertex 0 on the square's edge 1: `M`'s edge of
+        // edge 1 of `a`)
+        assert_eq!(pass.features, vec![(Err(1), 0)]);
+        let point = w.contact_point(sq, tri, &one);
+        assert_eq!(point, [2.0, 1.0]);
+        // the right hint
+        let w = apex_on_edge(0.0);
+        w.hint_contact(&one, (tri, 0), (sq, 1));
+        let c = w.contact_hinted(sq, tri, &one).expect("the hint is proved");
+        assert_eq!(
+            (&c.normal, &c.edge_normals, &c.features),
+            (&pass.normal, &pass.edge_normals, &pass.features)
+        );
+        assert_eq!(c.single, Some((true, 0)));
+        assert_eq!(w.contact_point(sq, tri, &one), point);
+        // wrong vertex, wrong edge, another instant
+        for (v, j, t) in [(1, 1, 1), (0, 0, 1), (0, 2, 1), (0, 1, 2)] {
+            let w = apex_on_edge(0.0);
+            let at = Rational::from_int(Int::from(t));
+            w.hint_contact(&at, (tri, v), (sq, j));
+            assert!(w.contact_hinted(sq, tri, &one).is_none(), "{v} {j} {t}");
+            assert_eq!(w.contact_point(sq, tri, &one), point);
+        }
+        // the apex on the square's corner: two edges of `M` are active
+        let w = apex_on_edge(1.0);
+        w.hint_contact(&one, (tri, 0), (sq, 1));
+        assert!(w.contact_hinted(sq, tri, &one).is_none());
+        assert!(w.contact_pass(sq, tri, &one).expect("touch").features.len() > 1);
     }
 
     /// Two equal squares head-on swap their velocities, at the unit scale

@@ -51,6 +51,43 @@ pub(super) fn each_body(p: &[Att; 3]) -> impl Iterator<Item = BodyId> {
     })
 }
 
+/// Note a contact's features as the failing certificate on `p` shows
+/// them, a vertex of one body against a polygon edge of the other, for
+/// the world's contact at `t` ([`crate::world::World::hint_contact`],
+/// which checks them exactly): only where all three are real polygon
+/// vertices (the one that an approximation touches is not a contact).
+fn hint_contact(world: &Geo, p: &[Att; 3], t: &Time) {
+    let Some(r) = t.as_rational() else {
+        return;
+    };
+    let real = |a: Att| match world.point_id(a)? {
+        (_, (u32::MAX, v)) => Some(v as usize),
+        _ => None,
+    };
+    for i in 0..3 {
+        let (x, y, z) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
+        let (Obj::Body(bz), Obj::Body(bx)) = (z.obj, x.obj) else {
+            continue;
+        };
+        if bz == bx || y.obj != x.obj {
+            continue;
+        }
+        let (Some(vz), Some(vx), Some(vy)) = (real(z), real(x), real(y)) else {
+            continue;
+        };
+        let n = world.world.body(bx).shape.len();
+        let j = if (vx + 1) % n == vy {
+            vx
+        } else if (vy + 1) % n == vx {
+            vy
+        } else {
+            continue;
+        };
+        world.world.hint_contact(r, (bz, vz), (bx, j));
+        return;
+    }
+}
+
 /// The pairs in contact at `t` for a contact failure of triple `p` between
 /// `a` and `b`: that pair, and any other pair among the triple's bodies and
 /// the bodies at the corners of the partition triangles that end the
@@ -229,6 +266,7 @@ impl Kinetic {
             let cert = s.cert;
             let (pairs, apart) = match classify(world, &cert, &t) {
                 Failure::Contact { a, b, third } => {
+                    hint_contact(world, &p, &t);
                     let zero = root_at(world, &cert, s.fp.as_deref(), Some(&t), &t);
                     let owners = s.owners.clone();
                     let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
