@@ -387,10 +387,19 @@ impl KineticEngine {
                 continue;
             }
             // a pair that still interpenetrates gets another response at
-            // this instant first
-            let again = || {
+            // this instant first (the contact's rule after a response,
+            // from the contact the response used; the contact interval
+            // where the rule does not answer)
+            let by_interval = || {
                 crate::brute::contact_interval(world, a, b, PairMethod::Fast).next_contact(r)
                     == Some(r.clone())
+            };
+            let again = || match world.touch_collides(a, b, r, true) {
+                Some(again) => {
+                    debug_assert_eq!(again, by_interval(), "{a:?} {b:?} at {r}");
+                    again
+                }
+                None => by_interval(),
             };
             if world.body(a).alive && world.body(b).alive && !again() {
                 pops += refine::unslide_after(world, &mut self.shapes, (a, b), t, &mut popper)
