@@ -1404,19 +1404,12 @@ fn minkowski_edges_big(
     let b_first =
         |i: usize, j: usize| angle_cmp(&edge_b(j), &edge_na(i)) != std::cmp::Ordering::Greater;
     merge_by_angle((n, m), (i0, j0), b_first, |i, j, take_b| {
-        // current vertex of M: b_j − a_i
-        let ((bx, by), (ax, ay)) = (bv(j), av(i));
-        let (vx, vy) = (bx - ax, by - ay);
-        let (ex, ey) = if take_b { edge_b(j) } else { edge_na(i) };
-        let (nx, ny) = (ey, -ex);
-        let h = &nx * &vx + &ny * &vy;
-        visit(MinkowskiEdge {
-            nx,
-            ny,
-            h,
-            source: if take_b { Ok(j) } else { Err(i) },
-            other: if take_b { i } else { j },
-        });
+        let (e, _) = if take_b {
+            minkowski_edge_of(a, b, Ok(j), i)
+        } else {
+            minkowski_edge_of(a, b, Err(i), j)
+        };
+        visit(e);
     });
 }
 

@@ -1071,19 +1071,11 @@ impl World {
         let (ba, bb) = (self.body(a), self.body(b));
         let source = if q == b { Ok(j) } else { Err(j) };
         let (e, exp) = crate::geom::minkowski_edge_of(&ba.shape, &bb.shape, source, v);
-        let crate::geom::MinkowskiEdge { nx, ny, h, .. } = e;
         // d = pos_a − pos_b on the edge's line: the pass's exact test
-        let [(xn, xd), (yn, yd)] = relative_position(&ba.traj, &bb.traj, t);
-        let (lshift, rshift) = if exp < 0 {
-            ((-exp) as usize, 0)
-        } else {
-            (0, exp as usize)
-        };
-        let lhs = (&xn * &nx * &yd + &yn * &ny * &xd) << lshift;
-        let rhs = (&h * &(&xd * &yd)) << rshift;
-        if lhs != rhs {
+        if Relative::of(ba, bb, t, exp).side(&e) != std::cmp::Ordering::Equal {
             return None;
         }
+        let crate::geom::MinkowskiEdge { nx, ny, .. } = e;
         let normal = Point {
             x: Rational::from_int(-nx),
             y: Rational::from_int(-ny),
@@ -1099,28 +1091,18 @@ impl World {
     /// [`World::contact`] by a pass over the edges of `M`.
     fn contact_pass(&self, a: BodyId, b: BodyId, t: &Rational) -> Option<ContactGeometry> {
         let (ba, bb) = (self.body(a), self.body(b));
-        // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A), as
-        // fractions xn / xd and yn / yd that are not reduced (no gcd)
-        let [(xn, xd), (yn, yd)] = relative_position(&ba.traj, &bb.traj, t);
-        let (xn, xd, yn, yd) = (&xn, &xd, &yn, &yd);
         let mut active: Vec<(Int, Int)> = Vec::new();
         let mut features = Vec::new();
         let mut outside = false;
         let mink = self.minkowski(a, b);
         let (edges, exp) = (&mink.0, mink.1);
-        // d · n against h · 2^exp in integers: both sides times the positive
-        // xd · yd · 2^max(−exp, 0) (no rational arithmetic, no gcd per edge)
-        let den = xd * yd;
-        let (lshift, rshift) = if exp < 0 {
-            ((-exp) as usize, 0)
-        } else {
-            (0, exp as usize)
-        };
+        // d = pos_a − pos_b lies on the boundary of M = B ⊕ (−A)
+        let d = Relative::of(ba, bb, t, exp);
         // (on enclosures first: only the edges that `d` may lie on, the
         // active ones, are compared exactly)
         let side = crate::geom::EdgeSideFilter::of_intervals(
-            crate::num::quotient_interval(xn, xd),
-            crate::num::quotient_interval(yn, yd),
+            crate::num::quotient_interval(&d.xn, &d.xd),
+            crate::num::quotient_interval(&d.yn, &d.yd),
             exp,
         );
         for e in edges {
@@ -1133,9 +1115,7 @@ impl World {
                 _ => {}
             }
             let e = e.edge();
-            let lhs = (xn * &e.nx * yd + yn * &e.ny * xd) << lshift;
-            let rhs = (&e.h * &den) << rshift;
-            match lhs.cmp(&rhs) {
+            match d.side(&e) {
                 std::cmp::Ordering::Greater => outside = true,
                 std::cmp::Ordering::Equal => {
                     features.push((e.source, e.other));
@@ -1266,6 +1246,53 @@ impl World {
 /// from the exact ratio of the areas, the normal's direction from the
 /// exact ratio of its coordinates, and the velocities scaled by a power of
 /// two; a result beyond the doubles' range saturates at `±f64::MAX`.
+/// `d = pos_a − pos_b` at an instant as the unreduced fractions `xn / xd`
+/// and `yn / yd` ([`relative_position`]), ready to be compared with the
+/// edges of `M = B ⊕ (−A)` in the units `2^exp` of their common exponent.
+struct Relative {
+    xn: Int,
+    xd: Int,
+    yn: Int,
+    yd: Int,
+    /// `xd · yd`.
+    den: Int,
+    lshift: usize,
+    rshift: usize,
+}
+
+impl Relative {
+    /// `d` for bodies `ba` (A) and `bb` (B) at `t`, against edges of
+    /// exponent `exp`.
+    fn of(ba: &Body, bb: &Body, t: &Rational, exp: i64) -> Relative {
+        let [(xn, xd), (yn, yd)] = relative_position(&ba.traj, &bb.traj, t);
+        let den = &xd * &yd;
+        let (lshift, rshift) = if exp < 0 {
+            ((-exp) as usize, 0)
+        } else {
+            (0, exp as usize)
+        };
+        Relative {
+            xn,
+            xd,
+            yn,
+            yd,
+            den,
+            lshift,
+            rshift,
+        }
+    }
+
+    /// `d · n` against `h · 2^exp` for edge `e` (`Greater`: `d` outside its
+    /// half-plane; `Equal`: on its line), exactly: both sides times the
+    /// positive `xd · yd · 2^max(−exp, 0)`, in integers (no rational
+    /// arithmetic, no gcd per edge).
+    fn side(&self, e: &crate::geom::MinkowskiEdge) -> std::cmp::Ordering {
+        let lhs = (&self.xn * &e.nx * &self.yd + &self.yn * &e.ny * &self.xd) << self.lshift;
+        let rhs = (&e.h * &self.den) << self.rshift;
+        lhs.cmp(&rhs)
+    }
+}
+
 /// `pos_a − pos_b` at `t` for bodies moving along `ta` and `tb`, each
 /// coordinate as a fraction `(numerator, denominator)` with a positive
 /// denominator, not reduced: `o + v·t` over `od · vd · td`, then the
