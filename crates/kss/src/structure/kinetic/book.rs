@@ -641,7 +641,13 @@ impl Kinetic {
     /// and not handled (a refinement replaced its failure).
     pub fn reschedule_idle(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
         let p = crate::structure::certs::rotate_to_min(*p);
-        if let Some(id) = self.certs.id(&p) {
+        self.reschedule_unqueued(world, &p, now);
+    }
+
+    /// Schedule the certificate on `p` (its points as stored) again if it
+    /// is out of the queue: popped and not handled, or idle.
+    pub(super) fn reschedule_unqueued(&mut self, world: &Geo, p: &[Att; 3], now: &Time) {
+        if let Some(id) = self.certs.id(p) {
             if self.certs.at(id).is_some_and(|s| s.key.is_none()) {
                 self.reschedule_id(world, id, now, None);
             }

@@ -275,9 +275,7 @@ impl Kinetic {
                 // around its bodies is whole again, and every one of them
                 // that still exists is scheduled again)
                 for p in &triples {
-                    if self.certs.get(p).is_some_and(|s| s.key.is_none()) {
-                        self.reschedule(world, p, now);
-                    }
+                    self.reschedule_unqueued(world, p, now);
                 }
             } else {
                 self.rebuild_after(world, now, kind)?;

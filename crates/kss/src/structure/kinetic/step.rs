@@ -373,9 +373,7 @@ impl Kinetic {
                 if self.unbuildable.as_ref() != Some(&t)
                     && self.repair_around(world, (&bodies, false), p, &t)?
                 {
-                    if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
-                        self.reschedule(world, &p, &t);
-                    }
+                    self.reschedule_unqueued(world, &p, &t);
                     return Ok(Step::Internal(t));
                 }
                 trace!("no local repair at {}: rebuilding", t.to_f64());
@@ -453,9 +451,7 @@ impl Kinetic {
             return Ok(false);
         }
         for p in std::mem::take(&mut self.instant.recent) {
-            if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
-                self.reschedule(world, &p, now);
-            }
+            self.reschedule_unqueued(world, &p, now);
         }
         Ok(true)
     }
@@ -532,9 +528,7 @@ impl Kinetic {
                         let bodies: Vec<BodyId> =
                             [Some(a), Some(b), third].into_iter().flatten().collect();
                         if self.repair_around(world, (&bodies, true), p, &t)? {
-                            if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
-                                self.reschedule(world, &p, &t);
-                            }
+                            self.reschedule_unqueued(world, &p, &t);
                             return Ok(Step::Internal(t));
                         }
                         trace!("no local repair at {}: rebuilding", t.to_f64());
@@ -610,9 +604,7 @@ impl Kinetic {
                 applied?;
                 // a certificate that outlived the operation unchanged fails
                 // again if it is still wrong just after t
-                if self.certs.get(&p).is_some_and(|s| s.key.is_none()) {
-                    self.reschedule(world, &p, &t);
-                }
+                self.reschedule_unqueued(world, &p, &t);
                 Ok(Step::Internal(t))
             }
         }
