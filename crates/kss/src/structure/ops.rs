@@ -19,9 +19,13 @@
 //! * a hull turn goes straight: the hull bridge's end slides off the hull, or,
 //!   when it was its polygon's only hull vertex, the hull bridge flips.
 //!
-//! After an operation the engine normalizes every touched corridor
-//! (`local::normalize`) and refreshes the certificates of every touched
-//! corridor and triangle.
+//! After an operation the engine normalizes every corridor whose ends,
+//! chains or middle bridge changed (`local::normalize`) and refreshes the
+//! certificates of those corridors and of every changed triangle. A corridor
+//! between two bodies across an unchanged side of a changed triangle keeps
+//! its faces and certificates (`Outcome::near`): a slide or a flip moves
+//! one corner of a triangle, and only the two corridors at that corner, and
+//! hull corridors (whose turns read the triangle's third corner), see it.
 
 use super::certs::rotate_to_min;
 use super::faces::{poly_edge, step_ccw, step_cw};
@@ -98,8 +102,13 @@ pub struct Outcome {
     /// Partition triangles whose corners changed.
     pub tris: Vec<TriId>,
     /// Corridors whose ends, chains or middle bridge changed (or whose hull
-    /// turns depend on a changed triangle).
+    /// turns depend on a changed triangle): normalized and given their
+    /// certificates anew.
     pub corrs: Vec<CorrId>,
+    /// Corridors between two bodies next to a changed triangle whose own
+    /// ends, chains and middle bridge did not change (their faces and
+    /// certificates are what they were): candidates for coarsening only.
+    pub near: Vec<CorrId>,
 }
 
 /// Whether the three points of `q` and `p` are the same set. A certificate
@@ -123,10 +132,6 @@ impl Kss {
             .ok_or_else(|| {
                 StructureError::Local(format!("{a:?} is not a corner of triangle {}", t.0))
             })
-    }
-
-    fn around(&self, t: TriId) -> Vec<CorrId> {
-        self.tris[t.0 as usize].corr.to_vec()
     }
 
     /// Move corner `ci` of triangle `tri` to its polygon neighbour `to`. The
@@ -263,6 +268,7 @@ impl Kss {
         let mut outer = vec![c_pq, c_qd, c_dr, c_rp];
         outer.sort();
         outer.dedup();
+        outer.retain(|&kk| kk != k);
         for &kk in &outer {
             let c = &mut self.corrs[kk.0 as usize];
             for end in [&mut c.s, &mut c.t] {
@@ -278,7 +284,12 @@ impl Kss {
             (c.a, c.b, c.s, c.t) = (p.obj, d.obj, (t2, 0), (t1, 2));
         }
         c.mid = None;
-        outer.push(k);
+        // (the four outer corridors keep their sides' two corners: only a
+        // hull corridor's turns read the triangle's third corner)
+        let (mut corrs, near): (Vec<CorrId>, Vec<CorrId>) = outer
+            .into_iter()
+            .partition(|&kk| self.corrs[kk.0 as usize].b == Obj::Omega);
+        corrs.push(k);
         Ok(Outcome {
             kind: if p.is_omega() || d.is_omega() || q.is_omega() || r.is_omega() {
                 EventKind::HullFlip
@@ -286,7 +297,8 @@ impl Kss {
                 EventKind::Flip
             },
             tris: vec![t1, t2],
-            corrs: outer,
+            corrs,
+            near,
         })
     }
 
@@ -299,10 +311,23 @@ impl Kss {
         kind: EventKind,
     ) -> Result<Outcome, StructureError> {
         self.corner_slide(world, tri, ci, to)?;
+        // (the corridor across the side opposite the corner keeps its two
+        // corners: it changes only if it is a hull corridor, whose turns
+        // read the triangle's third corner)
+        let around = self.tris[tri.0 as usize].corr;
+        let opposite = around[(ci + 1) % 3];
+        let mut corrs = vec![around[ci], around[(ci + 2) % 3]];
+        let mut near = Vec::new();
+        if self.corrs[opposite.0 as usize].b == Obj::Omega {
+            corrs.push(opposite);
+        } else if !corrs.contains(&opposite) {
+            near.push(opposite);
+        }
         Ok(Outcome {
             kind,
             tris: vec![tri],
-            corrs: self.around(tri),
+            corrs,
+            near,
         })
     }
 
@@ -549,6 +574,7 @@ impl Kss {
                     kind: EventKind::MidSlide,
                     tris: vec![],
                     corrs: vec![k],
+                    near: vec![],
                 })
             }
             EdgeRef::EndS | EdgeRef::EndT if onto => {
@@ -575,6 +601,7 @@ impl Kss {
                     kind: EventKind::InsertMid,
                     tris: vec![],
                     corrs: vec![k],
+                    near: vec![],
                 })
             }
         }

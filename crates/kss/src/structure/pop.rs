@@ -541,7 +541,7 @@ impl Kss {
                 continue;
             };
             let (mut c2, mut t2) = (corrs.clone(), tris.clone());
-            c2.extend(out.corrs.iter().copied());
+            c2.extend(out.corrs.iter().chain(&out.near).copied());
             t2.extend(out.tris.iter().copied());
             c2.sort();
             c2.dedup();

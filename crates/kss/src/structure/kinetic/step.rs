@@ -631,6 +631,11 @@ impl Kinetic {
         for &k in &corrs {
             self.refresh(world, Owner::Corr(k), t)?;
         }
+        // (the corridors next to a changed triangle that did not change are
+        // candidates for coarsening too)
+        corrs.extend(out.near);
+        corrs.sort();
+        corrs.dedup();
         self.last_touched = corrs;
         Ok(())
     }
