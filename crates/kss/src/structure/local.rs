@@ -1325,7 +1325,7 @@ impl Kss {
         super::counters::bump(super::counters::Counter::Walks);
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
-        let (a_s, b_s, a_t, b_t) = self.ends(k);
+        let (a_s, _, _, b_t) = self.ends(k);
         let (mut i, mut j) = (start.0.min(len_a), start.1.min(len_b));
         // a cusp (a zero turn whose neighbours lie on one side of `v`: two
         // sliding bodies pinch the corridor) counts as convex, as in
@@ -1398,39 +1398,25 @@ impl Kss {
             }
             debug_assert_eq!(alpha, step_cw(world, a_s, i));
             debug_assert_eq!(beta, step_cw(world, b_t, j));
-            // α's turn in face t (towards α − 1, or b_t when α = a_t) and in
-            // face s (from α + 1, or b_s when α = a_s); β's likewise
-            let a_in_t = if i < len_a {
-                tn(beta, alpha, step_cw(world, alpha, 1))
-            } else {
-                tn(beta, a_t, b_t)
-            };
-            let a_in_s = if i > 0 {
-                tn(step_ccw(world, alpha), alpha, beta)
-            } else {
-                tn(b_s, a_s, beta)
-            };
-            let b_in_s = if j < len_b {
-                tn(alpha, beta, step_cw(world, beta, 1))
-            } else {
-                tn(alpha, b_s, a_s)
-            };
-            let b_in_t = if j > 0 {
-                tn(step_ccw(world, beta), beta, alpha)
-            } else {
-                tn(a_t, b_t, alpha)
-            };
+            // α's turn in face t (towards α + 1) and in face s (from α − 1);
+            // β's likewise. Each is read only where the rule below needs
+            // it, and only where α (β) can move that way: a step is decided
+            // by its first rule that holds, most often by one turn.
+            let a_in_t = || tn(beta, alpha, step_cw(world, alpha, 1));
+            let a_in_s = || tn(step_ccw(world, alpha), alpha, beta);
+            let b_in_s = || tn(alpha, beta, step_cw(world, beta, 1));
+            let b_in_t = || tn(step_ccw(world, beta), beta, alpha);
             let pos = |s: Sign| s == Sign::Positive;
             let mv: Option<(i64, i64)> = match ty {
                 // a_s ⇝ b_t: α convex in t, reflex in s; β convex in s, reflex in t
                 Diagonal::SourceToTarget => {
-                    if !pos(a_in_t) && i < len_a {
+                    if i < len_a && !pos(a_in_t()) {
                         Some((1, 0))
-                    } else if i > 0 && pos(a_in_s) {
+                    } else if i > 0 && pos(a_in_s()) {
                         Some((-1, 0))
-                    } else if !pos(b_in_s) && j < len_b {
+                    } else if j < len_b && !pos(b_in_s()) {
                         Some((0, 1))
-                    } else if j > 0 && pos(b_in_t) {
+                    } else if j > 0 && pos(b_in_t()) {
                         Some((0, -1))
                     } else {
                         None
@@ -1438,13 +1424,13 @@ impl Kss {
                 }
                 // b_s ⇝ a_t: α convex in s, reflex in t; β convex in t, reflex in s
                 Diagonal::TargetToSource => {
-                    if !pos(a_in_s) && i > 0 {
+                    if i > 0 && !pos(a_in_s()) {
                         Some((-1, 0))
-                    } else if i < len_a && pos(a_in_t) {
+                    } else if i < len_a && pos(a_in_t()) {
                         Some((1, 0))
-                    } else if !pos(b_in_t) && j > 0 {
+                    } else if j > 0 && !pos(b_in_t()) {
                         Some((0, -1))
-                    } else if j < len_b && pos(b_in_s) {
+                    } else if j < len_b && pos(b_in_s()) {
                         Some((0, 1))
                     } else {
                         None
