@@ -1383,12 +1383,26 @@ impl Kss {
         // Each step is a function of the position alone (the instant and
         // side are fixed), so a walk that comes back to a position cycles
         // and would only run out its limit: it ends there, without a
-        // bridge. (Brent's cycle detection: the position is compared with
+        // bridge. Where the corridor's positions fit in a bitset of 4096
+        // bits, the walk ends at its first return to a position; on longer
+        // chains, Brent's cycle detection (the position is compared with
         // one saved at steps 1, 2, 4, 8, ..., which finds any cycle within
-        // about twice its length and tail.)
+        // about twice its length and tail). A walk that fails has no
+        // tangent to find and goes round the corridor, often for more
+        // steps than its limit allows Brent to see.
+        let width = len_b as usize + 1;
+        let exact = (len_a as usize + 1) * width <= 64 * 64;
+        let mut seen = [0u64; 64];
         let (mut saved, mut power) = ((i, j), 1u32);
         for steps in 0..limit {
-            if steps > 0 {
+            if exact {
+                let x = i as usize * width + j as usize;
+                let bit = 1u64 << (x % 64);
+                if seen[x / 64] & bit != 0 {
+                    return None;
+                }
+                seen[x / 64] |= bit;
+            } else if steps > 0 {
                 if (i, j) == saved {
                     return None;
                 }
