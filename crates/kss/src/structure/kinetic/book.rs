@@ -502,6 +502,9 @@ impl Kinetic {
         for b in each_body(&c.p) {
             self.by_body.at(b).insert(id);
         }
+        if let Some(ids) = self.scheduled.as_mut() {
+            ids.push(id);
+        }
         id
     }
 
@@ -607,7 +610,8 @@ impl Kinetic {
 
     /// After vertices `ids` of body `b` changed place (a pop or a merge):
     /// recompute the certificates of `owners`, then schedule again every
-    /// certificate still naming one of `ids` (its points moved).
+    /// certificate still naming one of `ids` (its points moved) that those
+    /// refreshes did not schedule anew.
     pub(super) fn refresh_moved(
         &mut self,
         geo: &Geo,
@@ -615,11 +619,16 @@ impl Kinetic {
         owners: BTreeSet<Owner>,
         t: &Time,
     ) -> Result<(), StructureError> {
-        for o in owners {
-            self.refresh(geo, o, t)?;
-        }
+        // (a certificate the owners' refreshes scheduled anew has its
+        // failure time from the vertices' new places already)
+        self.scheduled = Some(Vec::new());
+        let refreshed = owners.into_iter().try_for_each(|o| self.refresh(geo, o, t));
+        let fresh = self.scheduled.take().unwrap_or_default();
+        refreshed?;
         for (_, id) in self.certs_naming(b, ids) {
-            self.reschedule_id(geo, id, t, None);
+            if !fresh.contains(&id) {
+                self.reschedule_id(geo, id, t, None);
+            }
         }
         Ok(())
     }

@@ -268,6 +268,9 @@ pub struct Kinetic {
     pub unbuildable: Option<Time>,
     /// The corridors the last operation touched (where coarsening is tried).
     last_touched: Vec<CorrId>,
+    /// While `Some`, the ids of the certificates scheduled anew
+    /// ([`Kinetic::refresh_moved`]: they need no second failure time).
+    scheduled: Option<Vec<CertId>>,
     /// Rotates the coarsening candidates.
     tick: u64,
 }
