@@ -288,6 +288,18 @@ fn junction_clear_placed(
     true
 }
 
+/// The junction certificates [`Kss::known`] holds, for one check.
+#[derive(Clone, Copy)]
+struct Known<'a>(&'a Certs);
+
+impl Known<'_> {
+    /// The known certificate of junction `j` (its triple, rotated), if any.
+    fn known_junction(self, j: &Junction) -> Option<Cert> {
+        let p = super::certs::rotate_to_min([j.prev, j.v, j.next]);
+        self.0.iter().find(|c| c.p == p).copied()
+    }
+}
+
 /// Sort `certs` and drop repeats.
 fn sort_dedup(certs: &mut Certs) {
     certs.sort();
@@ -620,6 +632,13 @@ impl Kss {
             }
         }
         let shapes = self.faces_with(world, k, mid);
+        // (the junctions known to hold: only with `clear`, just after the
+        // instant they are known at)
+        let known = self
+            .known
+            .as_ref()
+            .filter(|(at, _)| clear && side == Side::After && at.is_known_same(t))
+            .map(|(_, certs)| Known(certs));
         // (two bodies that move alike may leave a face that is a path
         // traversed twice: an edge resting on an identical edge)
         let alike = match (c.a, c.b) {
@@ -656,6 +675,38 @@ impl Kss {
                 // vertex opposite) is no pseudo-triangle
                 if rest.is_some() && j.prev == j.next {
                     return false;
+                }
+                // a junction whose certificate is known to hold just after
+                // `t` (`Kss::known`): its sign and its clearance as they
+                // were. Not at a point of the certificate being handled,
+                // which is zero at `t`: every turn of the clearance names the
+                // vertex (`junction_clear_placed`), and one may be the
+                // handled one (a polygon neighbour of the vertex crossing a
+                // bridge there), whose sign flips at `t`.
+                if let Some(cert) = known
+                    .filter(|_| rest.is_none())
+                    .filter(|_| !self.handling.is_some_and(|h| h.contains(&j.v)))
+                    .and_then(|k| k.known_junction(j))
+                {
+                    debug_assert_eq!(
+                        cert.sign,
+                        sign(j),
+                        "a known junction {j:?} has another sign just after the instant"
+                    );
+                    debug_assert!(
+                        junction_clear(world, j, cert.sign, t, side),
+                        "a known junction {j:?} is not clear just after the instant"
+                    );
+                    all_zero = false;
+                    if let Some(cs) = certs.as_mut() {
+                        if cs.try_push(cert).is_err() {
+                            *certs = None;
+                        }
+                    }
+                    if cert.sign == Sign::Positive {
+                        convex += 1;
+                    }
+                    continue;
                 }
                 // (with `clear`, the sign is the turn on `side` of `t`:
                 // the junction's points are placed once for the filter of

@@ -224,6 +224,16 @@ pub struct Kss {
     /// diagonal type and side at the instant, and a normalization that finds
     /// no decomposition walks the same ones again for its candidates.
     pub(crate) walk_memo: std::cell::RefCell<Option<Vec<WalkMemoEntry>>>,
+    /// Junction certificates known to keep their sign just after one
+    /// instant (`known.0`), set by the kinetic layer around the
+    /// normalization that follows an operation (`None` elsewhere): the
+    /// stored certificates of the corridor that are queued strictly after
+    /// that instant, at an instant at which nothing else fails. A junction
+    /// checked just after that instant whose triple is one of them has its
+    /// sign, and is clear of its polygon (as it was just before: both
+    /// depend on its three points and its vertex's polygon alone), without
+    /// a test ([`Kss::faces_valid_on`]).
+    pub(crate) known: Option<(crate::num::Time, local::Certs)>,
 }
 
 /// What a middle-bridge walk of one normalization depends on: the

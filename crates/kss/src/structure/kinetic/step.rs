@@ -6,11 +6,12 @@
 use std::collections::BTreeSet;
 
 use crate::num::{Interval, Time};
+use crate::structure::certs::CertKind;
 use crate::structure::events::{classify, nearby_contact, settled_between, Failure};
 use crate::structure::geo::Geo;
 use crate::structure::ops::{Outcome, Owner};
 use crate::structure::StructureError;
-use crate::structure::{Att, Kss, Obj, TriId};
+use crate::structure::{Att, CorrId, Kss, Obj, TriId};
 use crate::world::BodyId;
 
 use super::book::due_is_failing;
@@ -610,6 +611,41 @@ impl Kinetic {
         }
     }
 
+    /// The junction certificates of corridor `k` known to keep their sign
+    /// just after `t` ([`crate::structure::Kss::known`]): those queued
+    /// strictly after `t`, when nothing else fails at `t` (the queue's next
+    /// failure is later, nothing waits at this instant) and the corridor
+    /// holds no junction against the motion; `None` otherwise.
+    fn known_junctions(
+        &self,
+        k: CorrId,
+        t: &Time,
+    ) -> Option<(Time, crate::structure::local::Certs)> {
+        if !self.instant.waiting.is_empty()
+            || self.instant.later.is_some()
+            || self.kss.held.contains_key(&k)
+            || self.queue.peek().is_some_and(|(_, tq, _, _)| tq == t)
+        {
+            return None;
+        }
+        let mut out = crate::structure::local::Certs::new();
+        for &id in &self.owned_corr[k.0 as usize] {
+            let Some(s) = self.certs.at(id) else {
+                continue;
+            };
+            // (out of the queue: it never fails, or holds until a bridge
+            // ends; the one being handled was popped)
+            let later = match s.key {
+                Some(key) => self.queue.get(key).is_some_and(|(tq, _)| tq != t),
+                None => self.instant.handling != Some(s.cert.p),
+            };
+            if s.cert.kind == CertKind::Junction && later && out.try_push(s.cert).is_err() {
+                break;
+            }
+        }
+        Some((t.clone(), out))
+    }
+
     pub(super) fn apply(
         &mut self,
         world: &Geo,
@@ -621,7 +657,10 @@ impl Kinetic {
         corrs.sort();
         corrs.dedup();
         for &k in &corrs {
-            if self.kss.normalize(world, k, t, None)? > 0 {
+            self.kss.known = self.known_junctions(k, t);
+            let steps = self.kss.normalize(world, k, t, None);
+            self.kss.known = None;
+            if steps? > 0 {
                 self.tally.searches += 1;
             }
         }
