@@ -292,7 +292,8 @@ impl Kss {
         let dead_set: HashSet<TriId> = dead_tris.iter().copied().collect();
         // the bridges of R's boundary, each with R on its left, and the
         // outside corridors beyond them
-        let mut portal: HashMap<(Att, Att), Portal> = HashMap::default();
+        let mut portal: HashMap<(Att, Att), Portal> =
+            HashMap::with_capacity_and_hasher(dead_tris.len(), Default::default());
         let mut merged: Vec<CorrId> = Vec::new();
         let mut bridges: Vec<(Att, Att)> = Vec::new();
         for &tri in &dead_tris {
@@ -354,7 +355,10 @@ impl Kss {
             }
         }
         // local vertex numbering
-        let mut index: HashMap<Att, usize> = HashMap::default();
+        let mut index: HashMap<Att, usize> = HashMap::with_capacity_and_hasher(
+            chains.len() + bridges.len() + ends.len(),
+            Default::default(),
+        );
         let mut atts: Vec<Att> = Vec::new();
         let mut add = |a: Att, atts: &mut Vec<Att>| {
             if !a.is_omega() {
@@ -371,7 +375,8 @@ impl Kss {
         for &a in &ends {
             add(a, &mut atts);
         }
-        let mut constraints: HashSet<(usize, usize)> = HashSet::default();
+        let mut constraints: HashSet<(usize, usize)> =
+            HashSet::with_capacity_and_hasher(chains.len() + bridges.len(), Default::default());
         for &(u, v) in chains.iter().chain(&bridges) {
             if u.is_omega() || v.is_omega() {
                 continue;
@@ -383,7 +388,9 @@ impl Kss {
             constraints.insert((x.min(y), x.max(y)));
         }
         // the local triangulation, oriented exactly
-        let mut directed: HashMap<(usize, usize), usize> = HashMap::default();
+        // (a triangulation of `n` points has fewer than `2n` triangles)
+        let mut directed: HashMap<(usize, usize), usize> =
+            HashMap::with_capacity_and_hasher(6 * atts.len(), Default::default());
         let mut tris: Vec<[usize; 3]> = Vec::new();
         if atts.len() >= 3 {
             // polygon edges first and bridges last, so that a bridge that
@@ -496,7 +503,8 @@ impl Kss {
         for &(x, y) in &hull {
             faces.push([atts[x], atts[y], Att::OMEGA]);
         }
-        let mut side_of: HashMap<(Att, Att), (usize, usize)> = HashMap::default();
+        let mut side_of: HashMap<(Att, Att), (usize, usize)> =
+            HashMap::with_capacity_and_hasher(3 * faces.len(), Default::default());
         for (fi, f) in faces.iter().enumerate() {
             if f[0].obj == f[1].obj && f[1].obj == f[2].obj {
                 return Err("a face inside a polygon".into());
@@ -511,7 +519,8 @@ impl Kss {
                 }
             }
         }
-        let mut tri_of: HashMap<usize, usize> = HashMap::default();
+        let mut tri_of: HashMap<usize, usize> =
+            HashMap::with_capacity_and_hasher(faces.len(), Default::default());
         let mut new_tris: Vec<[Att; 3]> = Vec::new();
         for (fi, f) in faces.iter().enumerate() {
             if is_partition(f) {
@@ -562,7 +571,8 @@ impl Kss {
             End::New(ti, j) => new_tris[ti][(j as usize + i) % 3],
             End::Old(tri, j) => self.corner(tri, j as usize + i),
         };
-        let mut assigned: HashMap<End, usize> = HashMap::default();
+        let mut assigned: HashMap<End, usize> =
+            HashMap::with_capacity_and_hasher(starts.len(), Default::default());
         let mut used: HashSet<CorrId> = HashSet::default();
         let mut new_corrs: Vec<PlannedCorr> = Vec::new();
         let limit = faces.len() + 2 * merged.len() + 4;
