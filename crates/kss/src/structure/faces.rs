@@ -65,7 +65,7 @@ impl Kss {
         {
             let c = self.corrs[ki].clone();
             if c.b == Obj::Omega || c.len_a == 0 || c.len_b == 0 {
-                self.corrs[ki].mid = None;
+                self.corrs.on_same_bodies(ki).mid = None;
                 return;
             }
             let (a_s, b_s, a_t, b_t) = self.ends(k);
@@ -75,7 +75,7 @@ impl Kss {
                 && conv(a_t, b_t, step_cw(world, b_t, 1))
                 && conv(step_ccw(world, b_s), b_s, a_s);
             if !four {
-                self.corrs[ki].mid = None;
+                self.corrs.on_same_bodies(ki).mid = None;
                 return;
             }
             // α advances from a_s towards a_t and β from b_t towards b_s until
@@ -103,7 +103,7 @@ impl Kss {
                     break;
                 }
             }
-            self.corrs[ki].mid = Some((i, j));
+            self.corrs.on_same_bodies(ki).mid = Some((i, j));
         }
     }
 }

@@ -984,7 +984,7 @@ impl Kss {
         let ki = k.0 as usize;
         let c = &self.corrs[ki];
         if c.b == Obj::Omega || (c.len_a == 0 && c.len_b == 0) {
-            self.corrs[ki].mid = None;
+            self.corrs.on_same_bodies(ki).mid = None;
             self.held.remove(&k);
             return Ok(0);
         }
@@ -993,7 +993,7 @@ impl Kss {
             .mid
             .filter(|&(i, j)| i <= len_a && j <= len_b)
             .filter(|&(i, j)| !((i == 0 && j == len_b) || (i == len_a && j == 0)));
-        self.corrs[ki].mid = mid;
+        self.corrs.on_same_bodies(ki).mid = mid;
         self.held.remove(&k);
         if let Some(steps) = self.decompose(world, k, t, hint, Side::After) {
             return Ok(steps);
@@ -1038,7 +1038,7 @@ impl Kss {
         // the four corners are convex)
         for &m in &candidates[1..] {
             if m.is_some() && self.faces_valid_on(world, k, m, t, Side::After) {
-                self.corrs[ki].mid = m;
+                self.corrs.on_same_bodies(ki).mid = m;
                 return Ok(1);
             }
         }
@@ -1060,13 +1060,13 @@ impl Kss {
             }
         }
         if let Some((m, flips)) = best {
-            self.corrs[ki].mid = m;
+            self.corrs.on_same_bodies(ki).mid = m;
             if !flips.is_empty() {
                 self.held.insert(k, flips);
             }
             return Ok(1);
         }
-        self.corrs[ki].mid = mid;
+        self.corrs.on_same_bodies(ki).mid = mid;
         #[cfg(feature = "trace")]
         {
             eprintln!(
@@ -1196,18 +1196,18 @@ impl Kss {
                 .walks(world, k, (t, side), &starts)
                 .find(|&(m, _)| self.faces_valid_on(world, k, Some(m), t, side));
             if let Some((m, steps)) = found {
-                self.corrs[ki].mid = Some(m);
+                self.corrs.on_same_bodies(ki).mid = Some(m);
                 return Some(steps.max(1));
             }
         } else if self.faces_valid_on(world, k, None, t, side) {
-            self.corrs[ki].mid = None;
+            self.corrs.on_same_bodies(ki).mid = None;
             return Some(1);
         }
         // two chains that rest on each other at a vertex pinch the corridor
         // there: the bridge of length zero between those vertices
         for m in self.resting_bridges(world, k, t) {
             if Some(m) != mid && self.faces_valid_on(world, k, Some(m), t, side) {
-                self.corrs[ki].mid = Some(m);
+                self.corrs.on_same_bodies(ki).mid = Some(m);
                 return Some(1);
             }
         }
@@ -1215,7 +1215,7 @@ impl Kss {
         // after) may pinch the corridor there: the bridge between them
         for m in self.touching_bridges(world, k, t) {
             if Some(m) != mid && self.faces_valid_on(world, k, Some(m), t, side) {
-                self.corrs[ki].mid = Some(m);
+                self.corrs.on_same_bodies(ki).mid = Some(m);
                 return Some(1);
             }
         }

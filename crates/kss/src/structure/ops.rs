@@ -159,7 +159,7 @@ impl Kss {
         let short =
             || StructureError::Local(format!("corner slide {v:?} → {to:?}: chain too short"));
         // corridor k1: v is the first point of its side (a_s or b_t)
-        let c = &mut self.corrs[k1.0 as usize];
+        let c = self.corrs.on_same_bodies(k1.0 as usize);
         if c.s == s1 {
             if cw {
                 c.len_a = c.len_a.checked_sub(1).ok_or_else(short)?;
@@ -182,7 +182,7 @@ impl Kss {
             ));
         }
         // corridor k0: v is the second point of its side (b_s or a_t)
-        let c = &mut self.corrs[k0.0 as usize];
+        let c = self.corrs.on_same_bodies(k0.0 as usize);
         if c.s == s0 {
             if cw {
                 c.len_b += 1;
@@ -204,7 +204,7 @@ impl Kss {
                 "corner slide: corridor does not link back".into(),
             ));
         }
-        self.tris[tri.0 as usize].c[ci] = to;
+        self.tris.on_same_bodies(tri.0 as usize).c[ci] = to;
         Ok(())
     }
 
@@ -270,7 +270,7 @@ impl Kss {
         outer.dedup();
         outer.retain(|&kk| kk != k);
         for &kk in &outer {
-            let c = &mut self.corrs[kk.0 as usize];
+            let c = self.corrs.on_same_bodies(kk.0 as usize);
             for end in [&mut c.s, &mut c.t] {
                 if let Some(&(_, new)) = map.iter().find(|(old, _)| old == end) {
                     *end = new;
@@ -569,7 +569,7 @@ impl Kss {
                 } else {
                     return Err(bad());
                 };
-                self.corrs[ki].mid = Some(m);
+                self.corrs.on_same_bodies(ki).mid = Some(m);
                 Ok(Outcome {
                     kind: EventKind::MidSlide,
                     tris: vec![],
@@ -596,7 +596,7 @@ impl Kss {
                 } else {
                     return Err(bad());
                 };
-                self.corrs[ki].mid = Some(m);
+                self.corrs.on_same_bodies(ki).mid = Some(m);
                 Ok(Outcome {
                     kind: EventKind::InsertMid,
                     tris: vec![],

@@ -412,10 +412,10 @@ impl Kss {
                 .flat_map(move |side| (0..candidates).map(move |j| (repair, side, j)))
         }) {
             for (n, &(ti, ci)) in order.iter().enumerate() {
-                self.tris[ti.0 as usize].c[ci] = if n < j { mside } else { kside };
+                self.tris.on_same_bodies(ti.0 as usize).c[ci] = if n < j { mside } else { kside };
             }
             for &(ti, ci) in &at_i {
-                self.tris[ti.0 as usize].c[ci] = iside;
+                self.tris.on_same_bodies(ti.0 as usize).c[ci] = iside;
             }
             let mut ok = true;
             for rec in &chains {
@@ -426,7 +426,7 @@ impl Kss {
                     break;
                 };
                 let len = nearest(d, count, rec.len);
-                let c = &mut self.corrs[rec.corr.0 as usize];
+                let c = self.corrs.on_same_bodies(rec.corr.0 as usize);
                 if rec.on_a {
                     c.len_a = len;
                 } else {
@@ -438,7 +438,7 @@ impl Kss {
                     let off = geo
                         .cw_distance(start, x, count)
                         .map(|d| nearest(d, count, old_off).min(len));
-                    let c = &mut self.corrs[rec.corr.0 as usize];
+                    let c = self.corrs.on_same_bodies(rec.corr.0 as usize);
                     c.mid = off.map(|o| if rec.on_a { (o, mj) } else { (mi, o) });
                 }
             }
@@ -684,7 +684,7 @@ impl Kss {
                     );
                     return false;
                 }
-                self.corrs[k.0 as usize].mid = None;
+                self.corrs.on_same_bodies(k.0 as usize).mid = None;
                 continue;
             }
             let hint = c.mid;
