@@ -549,7 +549,12 @@ impl<'a> Geo<'a> {
         let v = match self.shapes.approx(b) {
             None => {
                 let n = self.world.body(b).shape.len() as u32;
-                (a.v + n - (k % n)) % n
+                // (one step, the common case, without a division)
+                match (k, a.v) {
+                    (1, 0) => n - 1,
+                    (1, v) => v - 1,
+                    _ => (a.v + n - (k % n)) % n,
+                }
             }
             Some(ap) => {
                 // walking `k` steps round the cycle is walking `k mod n`
@@ -602,7 +607,14 @@ impl<'a> Geo<'a> {
             return a;
         };
         let v = match self.shapes.approx(b) {
-            None => (a.v + 1) % self.world.body(b).shape.len() as u32,
+            None => {
+                let v = a.v + 1;
+                if v == self.world.body(b).shape.len() as u32 {
+                    0
+                } else {
+                    v
+                }
+            }
             Some(ap) => self.shapes.links.next_visible(b, ap, a.v as usize) as u32,
         };
         Att { obj: a.obj, v }
