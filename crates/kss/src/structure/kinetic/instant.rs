@@ -24,11 +24,18 @@ use std::collections::VecDeque;
 
 use super::tally::Rebuild;
 use crate::num::Time;
+use crate::structure::events::Failure;
 use crate::structure::Att;
 use crate::world::BodyId;
 
 #[cfg(doc)]
 use super::Kinetic;
+#[cfg(doc)]
+use crate::structure::geo::Geo;
+
+/// A failure's classification kept from its pop ([`InstantState::classified`]):
+/// its triple, its bodies' views then, and the failure.
+pub(super) type Classified = ([Att; 3], [[u64; 2]; 3], Failure);
 
 /// A rebuild that waits for the collision response at this instant.
 #[derive(Clone, Debug)]
@@ -54,6 +61,12 @@ pub(super) struct InstantState {
     /// Popped failures of the current instant that wait until every possible
     /// contact of the instant has been classified.
     pub(super) later: Option<(Time, Vec<[Att; 3]>)>,
+    /// How each certificate of `later` was classified when it was popped
+    /// ([`crate::structure::events::classify`]), with the views of its
+    /// points' bodies then ([`Geo::view_words`]), and the instant: the same
+    /// failure when it is handled at that instant, unless a pop or a motion
+    /// change came between.
+    pub(super) classified: Option<(Time, Vec<Classified>)>,
     /// The certificate whose failure is being handled.
     pub(super) handling: Option<[Att; 3]>,
     /// The rebuild that waits for the collision response, if any.

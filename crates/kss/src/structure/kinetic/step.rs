@@ -265,7 +265,8 @@ impl Kinetic {
         );
         if tie == 0 {
             let cert = s.cert;
-            let (pairs, apart) = match classify(world, &cert, &t) {
+            let failure = classify(world, &cert, &t);
+            let (pairs, apart) = match failure {
                 Failure::Contact { a, b, third } => {
                     hint_contact(world, &p, &t);
                     let zero = root_at(world, &cert, s.fp.as_deref(), Some(&t), &t);
@@ -287,6 +288,11 @@ impl Kinetic {
             match &mut self.instant.later {
                 Some((_, ps)) => ps.push(p),
                 None => self.instant.later = Some((t.clone(), vec![p])),
+            }
+            let views = p.map(|a| view_of(world, a));
+            match &mut self.instant.classified {
+                Some((at, kept)) if at.is_known_same(&t) => kept.push((p, views, failure)),
+                _ => self.instant.classified = Some((t.clone(), vec![(p, views, failure)])),
             }
             return Ok(Step::Deferred(t));
         }
@@ -500,7 +506,28 @@ impl Kinetic {
         if std::env::var_os("KSS_DUMP").is_some() {
             self.kss.trace_dump();
         }
-        let mut failure = classify(world, &cert, &t);
+        // (as it was classified when it was popped, if the views of its
+        // bodies are the same: a function of its points, the instant and
+        // those views)
+        let views = p.map(|a| view_of(world, a));
+        let known = match &mut self.instant.classified {
+            Some((at, kept)) if at.is_known_same(&t) => kept
+                .iter()
+                .position(|(q, v, _)| *q == p && *v == views)
+                .map(|i| kept.swap_remove(i).2),
+            _ => None,
+        };
+        let mut failure = match known {
+            Some(f) => {
+                debug_assert_eq!(
+                    f,
+                    classify(world, &cert, &t),
+                    "a kept classification of {p:?}"
+                );
+                f
+            }
+            None => classify(world, &cert, &t),
+        };
         if let Failure::Contact { a, b, third } = failure {
             let zero = root_at(world, &cert, fp.as_ref(), popped.as_deref(), &t);
             let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
@@ -677,5 +704,13 @@ impl Kinetic {
         corrs.dedup();
         self.last_touched = corrs;
         Ok(())
+    }
+}
+
+/// The view of `a`'s body ([`Geo::view_words`]; zeros for `ω`).
+fn view_of(world: &Geo, a: Att) -> [u64; 2] {
+    match a.obj {
+        Obj::Body(b) => world.view_words(b),
+        Obj::Omega => [0, 0],
     }
 }
