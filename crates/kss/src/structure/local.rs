@@ -201,11 +201,20 @@ struct Placed {
 impl Placed {
     fn of(world: &Geo, j: &Junction, t: &Time) -> Placed {
         let v = j.v;
-        let pts = [v, step_ccw(world, v), step_cw(world, v, 1), j.prev, j.next];
+        let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
+        let pts = [v, up, down, j.prev, j.next];
         let tiv = t.interval();
+        let [m_v, m_up, m_down] = [v, up, down].map(|a| world.mid_rad(a, tiv));
+        // (a chain edge's end is one of the vertex's neighbours, placed
+        // already)
+        let again = |a: Att| match a {
+            _ if a == up => m_up,
+            _ if a == down => m_down,
+            _ => world.mid_rad(a, tiv),
+        };
         Placed {
             pts,
-            mids: pts.map(|a| world.mid_rad(a, tiv)),
+            mids: [m_v, m_up, m_down, again(j.prev), again(j.next)],
         }
     }
 
