@@ -257,40 +257,48 @@ fn junction_clear_placed(
     // up to eight turns below; the interval filter and the exact turn only
     // where that does not decide
     let Placed { pts, mids } = placed;
-    let [_, up, down, _, _] = *pts;
-    let at = |a: Att| pts.iter().position(|&x| x == a).and_then(|i| mids[i]);
-    let tn = |a: Att, b: Att, c: Att| {
-        if let (Some(ea), Some(eb), Some(ec)) = (at(a), at(b), at(c)) {
+    // (the points by their place in `pts`: the vertex, its two polygon
+    // neighbours, the junction's two other points)
+    const V: usize = 0;
+    const UP: usize = 1;
+    const DOWN: usize = 2;
+    const PREV: usize = 3;
+    const NEXT: usize = 4;
+    let tn = |[a, b, c]: [usize; 3]| {
+        let (pa, pb, pc) = (pts[a], pts[b], pts[c]);
+        if let (Some(ea), Some(eb), Some(ec)) = (mids[a], mids[b], mids[c]) {
             super::counters::bump(super::counters::Counter::TurnsFiltered);
             if let Some(s) = crate::geom::orient_mid_rad(ea, eb, ec) {
                 return s;
             }
-            if a != b && b != c && a != c {
-                return turn_on_past_mid_rad(world, a, b, c, t, side);
+            if pa != pb && pb != pc && pa != pc {
+                return turn_on_past_mid_rad(world, pa, pb, pc, t, side);
             }
         }
-        turn_on(world, a, b, c, t, side)
+        turn_on(world, pa, pb, pc, t, side)
     };
     // the polygon's corner at v: left of (down → v) and of (v → up)
-    let in_corner = |w: Att| tn(down, v, w) == Sign::Positive && tn(v, up, w) == Sign::Positive;
+    let in_corner =
+        |w: usize| tn([DOWN, V, w]) == Sign::Positive && tn([V, UP, w]) == Sign::Positive;
     // a zero turn is straight, or a cusp (an angle of zero: two bodies
     // sliding along each other pinch the face)
     let cusp = s == Sign::Zero && !between_on(world, j.prev, v, j.next, t, side);
-    let in_face = |x: Att| {
-        let (l, r) = (tn(j.prev, v, x), tn(v, j.next, x));
+    // (each side's turn read only where the other does not decide)
+    let in_face = |x: usize| {
+        let (l, r) = (|| tn([PREV, V, x]), || tn([V, NEXT, x]));
         match s {
-            Sign::Positive => l == Sign::Positive && r == Sign::Positive,
-            Sign::Negative => l == Sign::Positive || r == Sign::Positive,
-            Sign::Zero => !cusp && l == Sign::Positive,
+            Sign::Positive => l() == Sign::Positive && r() == Sign::Positive,
+            Sign::Negative => l() == Sign::Positive || r() == Sign::Positive,
+            Sign::Zero => !cusp && l() == Sign::Positive,
         }
     };
-    for w in [j.prev, j.next] {
-        if w.obj != v.obj && in_corner(w) {
+    for w in [PREV, NEXT] {
+        if pts[w].obj != v.obj && in_corner(w) {
             return false;
         }
     }
-    for x in [up, down] {
-        if x != j.prev && x != j.next && in_face(x) {
+    for x in [UP, DOWN] {
+        if pts[x] != j.prev && pts[x] != j.next && in_face(x) {
             return false;
         }
     }
