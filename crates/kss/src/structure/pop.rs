@@ -388,21 +388,6 @@ impl Kss {
         corr_ids.sort();
         corr_ids.dedup();
         let saved = Saved::of(self, &tri_ids, &corr_ids);
-        // what a candidate may change: the corridors along the chains
-        // through `v` and those at a moved corner of a triangle; the one
-        // across a triangle's side away from its moved corners keeps its
-        // ends (only a hull corridor's turns read the third corner)
-        let mut changed: Vec<CorrId> = chains.iter().map(|r| r.corr).collect();
-        for &(ti, ci) in order.iter().chain(&at_i) {
-            let corr = self.tris[ti.0 as usize].corr;
-            changed.extend([corr[ci], corr[(ci + 2) % 3]]);
-            let across = corr[(ci + 1) % 3];
-            if self.corrs[across.0 as usize].b == Obj::Omega {
-                changed.push(across);
-            }
-        }
-        changed.sort();
-        changed.dedup();
         let remap = |x: Att, rec: &ChainRec, new_start: Att, new_end: Att| -> Att {
             if x == a {
                 if rec.start == a {
@@ -459,7 +444,7 @@ impl Kss {
             }
             #[cfg(feature = "trace")]
             eprintln!("pop {a:?} candidate {j}/{candidates} {side:?}: lengths ok {ok}");
-            let (mut corrs, mut tris) = (changed.clone(), tri_ids.clone());
+            let (mut corrs, mut tris) = (corr_ids.clone(), tri_ids.clone());
             // a chain that wraps the whole polygon (one corridor along all
             // of it) defeats the local checks: a candidate can then let a
             // bridge cross the popped polygon (grazing-p50 of the quick
