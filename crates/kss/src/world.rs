@@ -1233,19 +1233,6 @@ impl World {
     }
 }
 
-/// The velocities of `a` and `b` after the elastic impulse along the
-/// contact normal `n` (from `a` to `b`), in doubles, from their velocities
-/// `va`, `vb` before (the pair approaches along `n`).
-///
-/// The masses are the areas. Where the areas, the normal, the velocities
-/// and the impulse are ordinary doubles this is the textbook formula. Where
-/// one of them is not (an area beyond the doubles' range or below their
-/// smallest normal value, a normal whose length overflows, velocities near
-/// `f64::MAX`, an impulse below the normal doubles, as for a polygon of
-/// area 1e-278 whose inverse mass is 1e278), the same impulse is computed
-/// from the exact ratio of the areas, the normal's direction from the
-/// exact ratio of its coordinates, and the velocities scaled by a power of
-/// two; a result beyond the doubles' range saturates at `±f64::MAX`.
 /// `d = pos_a − pos_b` at an instant as the unreduced fractions `xn / xd`
 /// and `yn / yd` ([`relative_position`]), ready to be compared with the
 /// edges of `M = B ⊕ (−A)` in the units `2^exp` of their common exponent.
@@ -1312,6 +1299,19 @@ fn relative_position(ta: &Trajectory, tb: &Trajectory, t: &Rational) -> [(Int, I
     [coord(0), coord(1)]
 }
 
+/// The velocities of `a` and `b` after the elastic impulse along the
+/// contact normal `n` (from `a` to `b`), in doubles, from their velocities
+/// `va`, `vb` before (the pair approaches along `n`).
+///
+/// The masses are the areas. Where the areas, the normal, the velocities
+/// and the impulse are ordinary doubles this is the textbook formula. Where
+/// one of them is not (an area beyond the doubles' range or below their
+/// smallest normal value, a normal whose length overflows, velocities near
+/// `f64::MAX`, an impulse below the normal doubles, as for a polygon of
+/// area 1e-278 whose inverse mass is 1e278), the same impulse is computed
+/// from the exact ratio of the areas, the normal's direction from the
+/// exact ratio of its coordinates, and the velocities scaled by a power of
+/// two; a result beyond the doubles' range saturates at `±f64::MAX`.
 fn impulse(
     ba: &Body,
     bb: &Body,
