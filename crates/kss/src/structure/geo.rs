@@ -916,6 +916,14 @@ impl<'a> Geo<'a> {
         [version, self.world.body(b).frame.uid()]
     }
 
+    /// [`Geo::view_words`] of object `o` (zeros for `ω`, which has no view).
+    pub(crate) fn obj_view_words(&self, o: Obj) -> [u64; 2] {
+        match o {
+            Obj::Body(b) => self.view_words(b),
+            Obj::Omega => [0, 0],
+        }
+    }
+
     /// An enclosure of `a`'s position at a time in `t` (the f64 filter of
     /// the orientation tests; `None` for `ω`).
     pub fn enclose(&self, a: Att, t: Interval) -> Option<[Interval; 2]> {

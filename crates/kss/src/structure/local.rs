@@ -580,13 +580,9 @@ impl Kss {
     ) -> super::geo::FacesKey {
         let c = &self.corrs[k.0 as usize];
         let obj = |o: Obj| Att { obj: o, v: 0 }.word();
-        let view = |o: Obj| match o {
-            Obj::Body(b) => world.view_words(b),
-            Obj::Omega => [0, 0],
-        };
         let (a_s, b_s, a_t, b_t) = self.ends(k);
-        let [va, ua] = view(c.a);
-        let [vb, ub] = view(c.b);
+        let [va, ua] = world.obj_view_words(c.a);
+        let [vb, ub] = world.obj_view_words(c.b);
         let tiv = t.interval();
         [
             obj(c.a),

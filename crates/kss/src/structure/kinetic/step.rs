@@ -289,7 +289,7 @@ impl Kinetic {
                 Some((_, ps)) => ps.push(p),
                 None => self.instant.later = Some((t.clone(), vec![p])),
             }
-            let views = p.map(|a| view_of(world, a));
+            let views = p.map(|a| world.obj_view_words(a.obj));
             match &mut self.instant.classified {
                 Some((at, kept)) if at.is_known_same(&t) => kept.push((p, views, failure)),
                 _ => self.instant.classified = Some((t.clone(), vec![(p, views, failure)])),
@@ -509,7 +509,7 @@ impl Kinetic {
         // (as it was classified when it was popped, if the views of its
         // bodies are the same: a function of its points, the instant and
         // those views)
-        let views = p.map(|a| view_of(world, a));
+        let views = p.map(|a| world.obj_view_words(a.obj));
         let known = match &mut self.instant.classified {
             Some((at, kept)) if at.is_known_same(&t) => kept
                 .iter()
@@ -704,13 +704,5 @@ impl Kinetic {
         corrs.dedup();
         self.last_touched = corrs;
         Ok(())
-    }
-}
-
-/// The view of `a`'s body ([`Geo::view_words`]; zeros for `ω`).
-fn view_of(world: &Geo, a: Att) -> [u64; 2] {
-    match a.obj {
-        Obj::Body(b) => world.view_words(b),
-        Obj::Omega => [0, 0],
     }
 }
