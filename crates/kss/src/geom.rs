@@ -766,6 +766,51 @@ impl Bounded {
     }
 }
 
+/// [`in_circle_mid_rad`] with one static error bound instead of a running
+/// one: the determinant of the midpoints' differences from `d` in f64,
+/// decided where it exceeds the rounding of its evaluation (`16ε` of the
+/// permanent, the differences taken as its exact inputs) plus what moving
+/// the six differences within their radii can change (each partial
+/// derivative is at most `8M³` where every difference is at most `M`,
+/// so `48·M³·δ` for a change of at most `δ` in each). Cheaper than the
+/// running bound and looser where the four points are at very different
+/// distances from `d`; `None` where it does not decide.
+#[inline]
+pub fn in_circle_static(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<Sign> {
+    let (ax, ay) = (a.x - d.x, a.y - d.y);
+    let (bx, by) = (b.x - d.x, b.y - d.y);
+    let (cx, cy) = (c.x - d.x, c.y - d.y);
+    let la = ax * ax + ay * ay;
+    let lb = bx * bx + by * by;
+    let lc = cx * cx + cy * cy;
+    let (bc1, bc2) = (bx * cy, by * cx);
+    let (ca1, ca2) = (cx * ay, cy * ax);
+    let (ab1, ab2) = (ax * by, ay * bx);
+    let det = la * (bc1 - bc2) + lb * (ca1 - ca2) + lc * (ab1 - ab2);
+    let perm =
+        la * (bc1.abs() + bc2.abs()) + lb * (ca1.abs() + ca2.abs()) + lc * (ab1.abs() + ab2.abs());
+    // the largest difference and the largest change of one (the radii of
+    // both ends and the rounding of the subtraction)
+    let big = ax
+        .abs()
+        .max(ay.abs())
+        .max(bx.abs().max(by.abs()))
+        .max(cx.abs().max(cy.abs()));
+    let delta = a.r.max(b.r).max(c.r) + d.r + 2.0 * EPS * big;
+    let m = big + delta;
+    let bound = (16.0 * EPS * perm + 48.0 * m * m * m * delta) * (1.0 + 64.0 * EPS) + TINY;
+    if !(bound.is_finite() && det.is_finite()) {
+        return None;
+    }
+    if det > bound {
+        Some(Sign::Positive)
+    } else if det < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
+    }
+}
+
 /// The sign of the in-circle determinant of `(a, b, c, d)` (positive when
 /// `d` is inside the circle through the counter-clockwise `a, b, c`) for
 /// any four points within the radii, if the f64 evaluation with its
@@ -822,7 +867,7 @@ mod tests {
                 .add(&r[2].1.mul(&cross(&r[0].0, &r[1].0)))
                 .sign()
         };
-        let mut decided = 0;
+        let (mut decided, mut decided_static) = (0, 0);
         for scale in [1e-300, 1e-9, 1.0, 1e9, 1e150] {
             for _ in 0..3000 {
                 let mut pt = || {
@@ -852,9 +897,14 @@ mod tests {
                     decided += 1;
                     assert_eq!(s, want, "{a:?} {b:?} {c:?} {d:?}");
                 }
+                if let Some(s) = in_circle_static(a.0, b.0, c.0, d.0) {
+                    decided_static += 1;
+                    assert_eq!(s, want, "static: {a:?} {b:?} {c:?} {d:?}");
+                }
             }
         }
         assert!(decided > 5000, "decided {decided}");
+        assert!(decided_static > 5000, "decided {decided_static} (static)");
     }
 
     /// Sums, differences and products of midpoint–radius numbers hold the

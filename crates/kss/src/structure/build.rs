@@ -20,7 +20,7 @@ type FastMap<K, V> = HashMap<K, V, foldhash::fast::FixedState>;
 use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
 use crate::cdt::{self, CdtError};
-use crate::geom::{in_circle_mid_rad, orient, orient_mid_rad, MidRad, Point};
+use crate::geom::{in_circle_mid_rad, in_circle_static, orient, orient_mid_rad, MidRad, Point};
 use crate::num::{Rational, Sign};
 use crate::world::BodyId;
 
@@ -185,7 +185,8 @@ impl cdt::Predicates for Vertices<'_, '_> {
     fn in_circle(&self, a: usize, b: usize, c: usize, d: usize) -> bool {
         match (self.mids[a], self.mids[b], self.mids[c], self.mids[d]) {
             (Some(p), Some(q), Some(r), Some(s)) => {
-                in_circle_mid_rad(p, q, r, s) == Some(Sign::Positive)
+                in_circle_static(p, q, r, s).or_else(|| in_circle_mid_rad(p, q, r, s))
+                    == Some(Sign::Positive)
             }
             _ => false,
         }
