@@ -358,6 +358,9 @@ impl Kinetic {
     ) -> Result<(), StructureError> {
         self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
         self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
+        // (a triangle's certificate and about four per corridor)
+        self.certs
+            .reserve(self.kss.tris.len() + 4 * self.kss.corrs.len());
         // (each corridor's certificates read right after its normalization,
         // while the validity cache still holds its faces' signs)
         let mut certs = Vec::with_capacity(self.kss.corrs.len());
