@@ -979,7 +979,7 @@ impl Kss {
         hint: Option<(u32, u32)>,
     ) -> Result<u32, StructureError> {
         // (the walks of this call are remembered until it returns)
-        *self.walk_memo.borrow_mut() = Some(Vec::new());
+        *self.walk_memo.borrow_mut() = Some(super::WalkMemo::default());
         let r = self.normalize_walking(world, k, t, hint);
         *self.walk_memo.borrow_mut() = None;
         r
@@ -1365,13 +1365,13 @@ impl Kss {
             side == Side::After,
         );
         if let Some(memo) = self.walk_memo.borrow().as_ref() {
-            if let Some((_, r)) = memo.iter().find(|(x, _)| *x == key) {
+            if let Some((_, r)) = memo.walks.iter().find(|(x, _)| *x == key) {
                 return *r;
             }
         }
         let r = self.walk_fresh(world, k, (t, side), start, ty, limit);
         if let Some(memo) = self.walk_memo.borrow_mut().as_mut() {
-            memo.push((key, r));
+            memo.walks.push((key, r));
         }
         r
     }
@@ -1457,12 +1457,37 @@ impl Kss {
         let width = len_b as usize + 1;
         let exact = (len_a as usize + 1) * width <= 64 * 64;
         let mut seen = [0u64; 64];
+        // (the positions that earlier walks of this normalization, of this
+        // corridor, type and side, passed through into a cycle: every walk
+        // that reaches one cycles too, so one that ends in a cycle adds its
+        // own)
+        let cycle_key = (k.0, ty == Diagonal::SourceToTarget, side == Side::After);
+        let cycling: Option<Box<[u64; 64]>> = if exact {
+            self.walk_memo.borrow().as_ref().and_then(|memo| {
+                memo.cycling
+                    .iter()
+                    .find(|(x, _)| *x == cycle_key)
+                    .map(|(_, bits)| bits.clone())
+            })
+        } else {
+            None
+        };
+        let cycles = |seen: &[u64; 64]| {
+            if let Some(memo) = self.walk_memo.borrow_mut().as_mut() {
+                match memo.cycling.iter_mut().find(|(x, _)| *x == cycle_key) {
+                    Some((_, bits)) => bits.iter_mut().zip(seen).for_each(|(b, s)| *b |= s),
+                    None => memo.cycling.push((cycle_key, Box::new(*seen))),
+                }
+            }
+        };
         let (mut saved, mut power) = ((i, j), 1u32);
         for steps in 0..limit {
             if exact {
                 let x = i as usize * width + j as usize;
                 let bit = 1u64 << (x % 64);
-                if seen[x / 64] & bit != 0 {
+                if seen[x / 64] & bit != 0 || cycling.as_ref().is_some_and(|c| c[x / 64] & bit != 0)
+                {
+                    cycles(&seen);
                     return None;
                 }
                 seen[x / 64] |= bit;

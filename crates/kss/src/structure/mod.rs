@@ -223,7 +223,7 @@ pub struct Kss {
     /// (`None` outside one): a walk is a function of its corridor, start,
     /// diagonal type and side at the instant, and a normalization that finds
     /// no decomposition walks the same ones again for its candidates.
-    pub(crate) walk_memo: std::cell::RefCell<Option<Vec<WalkMemoEntry>>>,
+    pub(crate) walk_memo: std::cell::RefCell<Option<WalkMemo>>,
     /// Junction certificates known to keep their sign just after one
     /// instant (`known.0`), set by the kinetic layer around the
     /// normalization that follows an operation (`None` elsewhere): the
@@ -243,6 +243,20 @@ pub(crate) type WalkKey = (u32, (u32, u32), bool, bool);
 /// A remembered walk: its key and where it ended (the middle bridge and
 /// the steps it took), `None` if it found none.
 pub(crate) type WalkMemoEntry = (WalkKey, Option<((u32, u32), u32)>);
+
+/// The walks of one normalization ([`Kss::walk_memo`]): each walk's end,
+/// and per corridor, diagonal type and side (`true`: after) the positions
+/// `(i, j)` that a walk passed through on its way into a cycle, as a
+/// bitset of `i·(len_b + 1) + j` (corridors whose positions fit in 4096
+/// bits): a step is a function of the position alone, so a walk that
+/// reaches one of them cycles too.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct WalkMemo {
+    /// The walks and where they ended.
+    pub(crate) walks: Vec<WalkMemoEntry>,
+    /// The positions that lead into a cycle.
+    pub(crate) cycling: Vec<((u32, bool, bool), Box<[u64; 64]>)>,
+}
 
 impl Kss {
     /// The corner of triangle `t` at index `i` (mod 3).
