@@ -141,6 +141,14 @@ impl CertSet {
         }
     }
 
+    /// The number of certificates in the set.
+    fn len(&self) -> usize {
+        match self {
+            CertSet::Few(v) => v.len(),
+            CertSet::Many(set) => set.len(),
+        }
+    }
+
     fn is_empty(&self) -> bool {
         match self {
             CertSet::Few(v) => v.is_empty(),

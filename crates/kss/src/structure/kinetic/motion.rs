@@ -42,13 +42,21 @@ impl Kinetic {
         let waiting = std::mem::take(&mut self.instant.waiting);
         // (in the order of `Att`, sorted as the points' words, which order
         // them alike and compare faster; equal triples are one certificate)
-        let mut words: Vec<([u64; 3], Option<CertId>)> = bodies
+        let room = bodies
             .iter()
             .filter_map(|b| self.by_body.get(b))
-            .flatten()
-            .filter_map(|&id| Some((self.certs.at(id)?.cert.p.map(Att::word), Some(id))))
-            .chain(waiting.iter().map(|p| (p.map(Att::word), self.certs.id(p))))
-            .collect();
+            .map(|set| set.len())
+            .sum::<usize>()
+            + waiting.len();
+        let mut words: Vec<([u64; 3], Option<CertId>)> = Vec::with_capacity(room);
+        words.extend(
+            bodies
+                .iter()
+                .filter_map(|b| self.by_body.get(b))
+                .flatten()
+                .filter_map(|&id| Some((self.certs.at(id)?.cert.p.map(Att::word), Some(id))))
+                .chain(waiting.iter().map(|p| (p.map(Att::word), self.certs.id(p)))),
+        );
         words.sort_unstable_by_key(|&(w, _)| w);
         words.dedup_by_key(|&mut (w, _)| w);
         let touched: Vec<[Att; 3]> = words.iter().map(|(w, _)| w.map(Att::from_word)).collect();
