@@ -294,8 +294,8 @@ impl Kss {
         // outside corridors beyond them
         let mut portal: HashMap<(Att, Att), Portal> =
             HashMap::with_capacity_and_hasher(dead_tris.len(), Default::default());
-        let mut merged: Vec<CorrId> = Vec::new();
-        let mut bridges: Vec<(Att, Att)> = Vec::new();
+        let mut merged: Vec<CorrId> = Vec::with_capacity(dead_tris.len());
+        let mut bridges: Vec<(Att, Att)> = Vec::with_capacity(dead_tris.len());
         for &tri in &dead_tris {
             let c = self.tris[tri.0 as usize].c;
             // the sides away from the set (one for a single body)
@@ -322,8 +322,16 @@ impl Kss {
         // the chains of the region's corridors, walked clockwise (free
         // space on the left): those facing the set bound the region from
         // outside, a kept body's own bound it from inside
-        let mut chains: Vec<(Att, Att)> = Vec::new();
-        let mut ends: Vec<Att> = Vec::new();
+        // (sized for the chains facing the set)
+        let facing: usize = star
+            .iter()
+            .map(|k| {
+                let c = &self.corrs[k.0 as usize];
+                (c.len_a + c.len_b) as usize
+            })
+            .sum();
+        let mut chains: Vec<(Att, Att)> = Vec::with_capacity(facing);
+        let mut ends: Vec<Att> = Vec::with_capacity(4 * star.len());
         for &k in &star {
             let c = &self.corrs[k.0 as usize];
             let (a_s, _, _, b_t) = self.ends(k);
@@ -359,7 +367,7 @@ impl Kss {
             chains.len() + bridges.len() + ends.len(),
             Default::default(),
         );
-        let mut atts: Vec<Att> = Vec::new();
+        let mut atts: Vec<Att> = Vec::with_capacity(chains.len() + bridges.len() + ends.len());
         let mut add = |a: Att, atts: &mut Vec<Att>| {
             if !a.is_omega() {
                 index.entry(a).or_insert_with(|| {
@@ -391,7 +399,7 @@ impl Kss {
         // (a triangulation of `n` points has fewer than `2n` triangles)
         let mut directed: HashMap<(usize, usize), usize> =
             HashMap::with_capacity_and_hasher(6 * atts.len(), Default::default());
-        let mut tris: Vec<[usize; 3]> = Vec::new();
+        let mut tris: Vec<[usize; 3]> = Vec::with_capacity(2 * atts.len());
         if atts.len() >= 3 {
             // polygon edges first and bridges last, so that a bridge that
             // crosses a polygon is the constraint reported
@@ -452,7 +460,7 @@ impl Kss {
         let is_constraint = |x: usize, y: usize| constraints.contains(&(x.min(y), x.max(y)));
         let mut inside = vec![false; tris.len()];
         let mut hull: Vec<(usize, usize)> = Vec::new();
-        let mut stack: Vec<usize> = Vec::new();
+        let mut stack: Vec<usize> = Vec::with_capacity(tris.len());
         let left_of = |x: usize,
                        y: usize,
                        inside: &mut Vec<bool>,
@@ -494,7 +502,7 @@ impl Kss {
         if !hull.is_empty() && !touches_omega {
             return Err("a hull edge in a bounded region".into());
         }
-        let mut faces: Vec<[Att; 3]> = Vec::new();
+        let mut faces: Vec<[Att; 3]> = Vec::with_capacity(tris.len() + hull.len());
         for (f, tri) in tris.iter().enumerate() {
             if inside[f] {
                 faces.push(tri.map(|x| atts[x]));
@@ -521,7 +529,7 @@ impl Kss {
         }
         let mut tri_of: HashMap<usize, usize> =
             HashMap::with_capacity_and_hasher(faces.len(), Default::default());
-        let mut new_tris: Vec<[Att; 3]> = Vec::new();
+        let mut new_tris: Vec<[Att; 3]> = Vec::with_capacity(dead_tris.len() + 2);
         for (fi, f) in faces.iter().enumerate() {
             if is_partition(f) {
                 tri_of.insert(fi, new_tris.len());
@@ -553,7 +561,7 @@ impl Kss {
         }
         // walk the corridors: from every side of a new triangle, and from
         // the far end of every merged corridor that stays
-        let mut starts: Vec<End> = Vec::new();
+        let mut starts: Vec<End> = Vec::with_capacity(3 * new_tris.len() + 2 * merged.len());
         for (ti, _) in new_tris.iter().enumerate() {
             for i in 0..3 {
                 starts.push(End::New(ti, i as u8));
@@ -574,7 +582,7 @@ impl Kss {
         let mut assigned: HashMap<End, usize> =
             HashMap::with_capacity_and_hasher(starts.len(), Default::default());
         let mut used: HashSet<CorrId> = HashSet::default();
-        let mut new_corrs: Vec<PlannedCorr> = Vec::new();
+        let mut new_corrs: Vec<PlannedCorr> = Vec::with_capacity(starts.len() / 2 + 1);
         let limit = faces.len() + 2 * merged.len() + 4;
         for &start in &starts {
             if assigned.contains_key(&start) {
