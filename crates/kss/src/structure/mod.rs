@@ -244,6 +244,10 @@ pub(crate) type WalkKey = (u32, (u32, u32), bool, bool);
 /// the steps it took), `None` if it found none.
 pub(crate) type WalkMemoEntry = (WalkKey, Option<((u32, u32), u32)>);
 
+/// What the positions that lead a walk into a cycle depend on: the
+/// corridor, the diagonal type and the side (`true`: after).
+pub(crate) type CycleKey = (u32, bool, bool);
+
 /// The walks of one normalization ([`Kss::walk_memo`]): each walk's end,
 /// and per corridor, diagonal type and side (`true`: after) the positions
 /// `(i, j)` that a walk passed through on its way into a cycle, as a
@@ -255,7 +259,7 @@ pub(crate) struct WalkMemo {
     /// The walks and where they ended.
     pub(crate) walks: Vec<WalkMemoEntry>,
     /// The positions that lead into a cycle.
-    pub(crate) cycling: Vec<((u32, bool, bool), Box<[u64; 64]>)>,
+    pub(crate) cycling: Vec<(CycleKey, Box<[u64; 64]>)>,
 }
 
 impl Kss {

@@ -397,8 +397,8 @@ impl Kinetic {
     }
 
     /// [`Kinetic::refresh`] with the certificates `o` owns at `now`
-    /// already read (`fresh`, as [`Kss::triangle_certs`] or
-    /// [`Kss::corridor_certs`] give them).
+    /// already read (`fresh`, as [`crate::structure::Kss::triangle_certs`] or
+    /// [`crate::structure::Kss::corridor_certs`] give them).
     pub(super) fn refresh_with(
         &mut self,
         world: &Geo,
