@@ -208,8 +208,7 @@ pub fn triangulate(
         match insert_segment(&mut mesh, u, v, &fixed, p) {
             Ok(fresh) => {
                 fixed.insert(key);
-                let mut todo = fresh;
-                legalize(&mut mesh, &mut todo, &fixed, p);
+                legalize(&mut mesh, fresh, &fixed, p);
             }
             // (found before any flip: the mesh is unchanged)
             Err(Cross) => crossing.push([u as usize, v as usize]),
@@ -280,8 +279,6 @@ fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
     let no_segments = HashSet::default();
     let mut rng = crate::rng::Rng::new(ORDER_SEED);
     let mut hint = 0u32;
-    // (one work list for every insertion's flips)
-    let mut todo: Vec<(u32, u32)> = Vec::with_capacity(64);
     for (idx, &v) in order.iter().enumerate() {
         if idx < 2 || idx == k {
             continue;
@@ -293,9 +290,7 @@ fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
             Located::Outside(t, i) => attach_outside(&mut mesh, &mut hull, t, i, v32, p),
             Located::Corner(w) => return Err(CdtError::Coincident(v, w as usize)),
         };
-        todo.clear();
-        todo.extend(link);
-        legalize(&mut mesh, &mut todo, &no_segments, p);
+        legalize(&mut mesh, link, &no_segments, p);
         hint = mesh.at[v];
     }
     Ok(mesh)
@@ -557,7 +552,7 @@ fn attach_outside(
 /// and whose quadrilateral is strictly convex, is flipped.
 fn legalize(
     mesh: &mut Mesh,
-    todo: &mut Vec<(u32, u32)>,
+    mut todo: Vec<(u32, u32)>,
     fixed: &HashSet<(u32, u32), foldhash::fast::FixedState>,
     p: &impl Predicates,
 ) {

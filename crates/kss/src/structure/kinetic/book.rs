@@ -21,7 +21,7 @@ use crate::world::BodyId;
 use super::instant::InstantState;
 use super::step::each_body;
 use super::{due_time, fingerprint, CertId, Fingerprint, Kinetic, Scheduled};
-use crate::structure::local::{Certs, MAX_CERTS};
+use crate::structure::local::MAX_CERTS;
 
 /// The certificate function of `c`, oriented so that it is positive while
 /// the certificate holds.
@@ -358,25 +358,17 @@ impl Kinetic {
     ) -> Result<(), StructureError> {
         self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
         self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
-        // (a triangle's certificate and about four per corridor)
-        self.certs
-            .reserve(self.kss.tris.len() + 4 * self.kss.corrs.len());
-        // (each corridor's certificates read right after its normalization,
-        // while the validity cache still holds its faces' signs)
-        let mut certs = Vec::with_capacity(self.kss.corrs.len());
         for ki in 0..self.kss.corrs.len() {
-            let k = CorrId(ki as u32);
-            let steps = self.kss.normalize(world, k, now, None)?;
+            let steps = self.kss.normalize(world, CorrId(ki as u32), now, None)?;
             if steps > 0 {
                 self.tally.searches += 1;
             }
-            certs.push(self.kss.corridor_certs(world, k, now));
         }
         for ti in 0..self.kss.tris.len() {
             self.refresh(world, Owner::Tri(TriId(ti as u32)), now)?;
         }
-        for (ki, fresh) in certs.into_iter().enumerate() {
-            self.refresh_with(world, Owner::Corr(CorrId(ki as u32)), fresh, now)?;
+        for ki in 0..self.kss.corrs.len() {
+            self.refresh(world, Owner::Corr(CorrId(ki as u32)), now)?;
         }
         Ok(())
     }
@@ -393,19 +385,6 @@ impl Kinetic {
             Owner::Tri(t) => self.kss.triangle_certs(t),
             Owner::Corr(k) => self.kss.corridor_certs(world, k, now),
         };
-        self.refresh_with(world, o, fresh, now)
-    }
-
-    /// [`Kinetic::refresh`] with the certificates `o` owns at `now`
-    /// already read (`fresh`, as [`crate::structure::Kss::triangle_certs`] or
-    /// [`crate::structure::Kss::corridor_certs`] give them).
-    pub(super) fn refresh_with(
-        &mut self,
-        world: &Geo,
-        o: Owner,
-        fresh: Certs,
-        now: &Time,
-    ) -> Result<(), StructureError> {
         let old = match o {
             Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
             Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),

@@ -55,12 +55,6 @@ impl CertStore {
         self.slots.get_mut(id)
     }
 
-    /// Room for `n` more certificates without growing.
-    pub(super) fn reserve(&mut self, n: usize) {
-        self.slots.reserve(n);
-        self.index.reserve(n);
-    }
-
     /// Store `s`, which must be on points that have no certificate yet.
     pub(super) fn insert(&mut self, s: Scheduled) -> CertId {
         let p = s.cert.p;
