@@ -657,6 +657,21 @@ impl TimeMidRad {
     }
 }
 
+/// The sign of a filter's f64 value `v` where its error bound `bound`
+/// decides it: `v` beyond `±bound`, both finite; `None` otherwise.
+#[inline]
+fn sign_beyond(v: f64, bound: f64) -> Option<Sign> {
+    if !(bound.is_finite() && v.is_finite()) {
+        None
+    } else if v > bound {
+        Some(Sign::Positive)
+    } else if v < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
+    }
+}
+
 /// The sign of `orient(u, v, w)` for any three points within the radii of
 /// `u`, `v`, `w`, if the f64 evaluation at the midpoints with its error
 /// bound decides it and it is not zero (the cheap first filter of the
@@ -686,16 +701,7 @@ pub fn orient_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
         + u1y * u2x
         + 3.0 * EPS * (p.abs() + q.abs());
     let bound = err * (1.0 + 32.0 * EPS) + TINY;
-    if !(bound.is_finite() && det.is_finite()) {
-        return None;
-    }
-    if det > bound {
-        Some(Sign::Positive)
-    } else if det < -bound {
-        Some(Sign::Negative)
-    } else {
-        None
-    }
+    sign_beyond(det, bound)
 }
 
 impl MidRad {
@@ -799,16 +805,7 @@ pub fn in_circle_static(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<Si
     let delta = a.r.max(b.r).max(c.r) + d.r + 2.0 * EPS * big;
     let m = big + delta;
     let bound = (16.0 * EPS * perm + 48.0 * m * m * m * delta) * (1.0 + 64.0 * EPS) + TINY;
-    if !(bound.is_finite() && det.is_finite()) {
-        return None;
-    }
-    if det > bound {
-        Some(Sign::Positive)
-    } else if det < -bound {
-        Some(Sign::Negative)
-    } else {
-        None
-    }
+    sign_beyond(det, bound)
 }
 
 /// The sign of the in-circle determinant of `(a, b, c, d)` (positive when
@@ -831,16 +828,7 @@ pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<S
         .add(bl.mul(cx.mul(ay).sub(cy.mul(ax))))
         .add(cl.mul(ax.mul(by).sub(ay.mul(bx))));
     let bound = det.e * (1.0 + 64.0 * EPS) + TINY;
-    if !(bound.is_finite() && det.v.is_finite()) {
-        return None;
-    }
-    if det.v > bound {
-        Some(Sign::Positive)
-    } else if det.v < -bound {
-        Some(Sign::Negative)
-    } else {
-        None
-    }
+    sign_beyond(det.v, bound)
 }
 
 #[cfg(test)]
