@@ -1462,16 +1462,15 @@ impl Kss {
         // that reaches one cycles too, so one that ends in a cycle adds its
         // own)
         let cycle_key = (k.0, ty == Diagonal::SourceToTarget, side == Side::After);
-        let cycling: Option<Box<[u64; 64]>> = if exact {
-            self.walk_memo.borrow().as_ref().and_then(|memo| {
-                memo.cycling
-                    .iter()
-                    .find(|(x, _)| *x == cycle_key)
-                    .map(|(_, bits)| bits.clone())
-            })
-        } else {
-            None
-        };
+        // (read in place: nothing in the walk writes the memo)
+        let memo = exact.then(|| self.walk_memo.borrow());
+        let cycling: Option<&[u64; 64]> = memo.as_ref().and_then(|m| {
+            m.as_ref()?
+                .cycling
+                .iter()
+                .find(|(x, _)| *x == cycle_key)
+                .map(|(_, bits)| &**bits)
+        });
         let cycles = |seen: &[u64; 64]| {
             if let Some(memo) = self.walk_memo.borrow_mut().as_mut() {
                 match memo.cycling.iter_mut().find(|(x, _)| *x == cycle_key) {
@@ -1485,8 +1484,8 @@ impl Kss {
             if exact {
                 let x = i as usize * width + j as usize;
                 let bit = 1u64 << (x % 64);
-                if seen[x / 64] & bit != 0 || cycling.as_ref().is_some_and(|c| c[x / 64] & bit != 0)
-                {
+                if seen[x / 64] & bit != 0 || cycling.is_some_and(|c| c[x / 64] & bit != 0) {
+                    drop(memo);
                     cycles(&seen);
                     return None;
                 }
