@@ -466,6 +466,14 @@ pub struct MidRad {
     pub r: f64,
 }
 
+/// Whether two closed boxes `[x_lo, x_hi, y_lo, y_hi]` (of
+/// [`MidRad::bounding_box`]) are certainly apart: one lies beyond a side of
+/// the other.
+#[inline]
+pub fn boxes_apart(a: [f64; 4], b: [f64; 4]) -> bool {
+    a[1] < b[0] || b[1] < a[0] || a[3] < b[2] || b[3] < a[2]
+}
+
 /// The unit roundoff of f64, `2^-53`.
 pub(crate) const EPS: f64 = f64::EPSILON / 2.0;
 
@@ -474,6 +482,52 @@ pub(crate) const EPS: f64 = f64::EPSILON / 2.0;
 pub(crate) const TINY: f64 = 1e-300;
 
 impl MidRad {
+    /// A box `[x_lo, x_hi, y_lo, y_hi]` that certainly holds every point
+    /// of `pts` (each bound rounded outward by one step); `None` if there is
+    /// none, or one is missing or not finite.
+    pub fn bounding_box<'a>(pts: impl IntoIterator<Item = &'a Option<MidRad>>) -> Option<[f64; 4]> {
+        let mut b: Option<[f64; 4]> = None;
+        for m in pts {
+            let p = m.as_ref()?.bounds();
+            // (a NaN would drop out of `min` and `max`)
+            if !p.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            b = Some(match b {
+                None => p,
+                Some(b) => [
+                    b[0].min(p[0]),
+                    b[1].max(p[1]),
+                    b[2].min(p[2]),
+                    b[3].max(p[3]),
+                ],
+            });
+        }
+        b
+    }
+
+    /// Whether the point is certainly outside the closed box `b` (of
+    /// [`MidRad::bounding_box`]): beyond one of its sides.
+    #[inline]
+    pub fn outside_box(self, b: [f64; 4]) -> bool {
+        let [x_lo, x_hi, y_lo, y_hi] = self.bounds();
+        x_hi < b[0] || x_lo > b[1] || y_hi < b[2] || y_lo > b[3]
+    }
+
+    /// `[x_lo, x_hi, y_lo, y_hi]` with the point certainly in `[x_lo,
+    /// x_hi] × [y_lo, y_hi]`: the midpoint minus (plus) the radius, each
+    /// rounded to nearest and then one step outward, which covers the
+    /// rounding (half a step). A bound may be infinite or NaN.
+    #[inline]
+    pub fn bounds(self) -> [f64; 4] {
+        [
+            (self.x - self.r).next_down(),
+            (self.x + self.r).next_up(),
+            (self.y - self.r).next_down(),
+            (self.y + self.r).next_up(),
+        ]
+    }
+
     /// Whether the two points are certainly apart: their midpoints differ
     /// in one coordinate by more than the two radii (with a margin for the
     /// rounding of the difference, the sum and the product).
@@ -834,6 +888,58 @@ pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<S
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A bounding box holds every point within the radii exactly (each
+    /// corner of each point's square, compared as exact rationals), at
+    /// scales from 1e-300 to 1e300; a point exactly on its side is not
+    /// outside it; a missing or non-finite point gives no box.
+    #[test]
+    fn bounding_box_holds_its_points_exactly() {
+        let mut rng = crate::rng::Rng::new(29);
+        let exact = |v: f64| Point::from_f64([v, 0.0]).expect("finite").x;
+        for round in 0..2000 {
+            let scale = 10f64.powi((round % 61) * 10 - 300);
+            let pts: Vec<Option<MidRad>> = (0..1 + round as usize % 5)
+                .map(|_| {
+                    let c = |rng: &mut crate::rng::Rng| (rng.next_f64() * 2.0 - 1.0) * scale;
+                    let r = if rng.below(3) == 0 {
+                        0.0
+                    } else {
+                        rng.next_f64() * scale * 1e-9
+                    };
+                    Some(MidRad {
+                        x: c(&mut rng),
+                        y: c(&mut rng),
+                        r,
+                    })
+                })
+                .collect();
+            let b = MidRad::bounding_box(&pts).expect("finite points have a box");
+            for m in pts.iter().flatten() {
+                assert!(!m.outside_box(b));
+                // the extreme points of the square, exactly
+                for (c, lo, hi) in [(m.x, b[0], b[1]), (m.y, b[2], b[3])] {
+                    let (r, c) = (exact(m.r), exact(c));
+                    assert!(exact(lo) <= c.sub(&r), "{lo} above {c:?} - {r:?}");
+                    assert!(c.add(&r) <= exact(hi), "{hi} below {c:?} + {r:?}");
+                }
+            }
+        }
+        let p = |x: f64| Some(MidRad { x, y: 0.0, r: 0.0 });
+        let b = MidRad::bounding_box(&[p(0.0), p(1.0)]).expect("a box");
+        assert!(!p(1.0).unwrap().outside_box(b));
+        assert!(p(2.0).unwrap().outside_box(b));
+        assert!(!p(f64::NAN).unwrap().outside_box(b));
+        assert_eq!(MidRad::bounding_box(&[p(0.0), None]), None);
+        assert_eq!(MidRad::bounding_box(&[p(0.0), p(f64::NAN)]), None);
+        assert_eq!(
+            MidRad::bounding_box(&[p(f64::MAX), p(0.0)]).map(|b| b[1]),
+            None
+        );
+        assert_eq!(MidRad::bounding_box(std::iter::empty()), None);
+        assert!(boxes_apart(b, [1.5, 2.0, 0.0, 0.0]));
+        assert!(!boxes_apart(b, [1.0, 2.0, 0.0, 0.0]));
+    }
 
     /// The in-circle filter never decides a sign other than the exact one
     /// for points within its radii, at scales from 1e-300 to 1e300, and

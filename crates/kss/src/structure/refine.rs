@@ -207,10 +207,36 @@ fn sliding(
         ((pa, &ra, ma), (pb, &rb, mb)),
         ((pb, &rb, mb), (pa, &ra, ma)),
     ] {
+        // (a vertex on the closed edge at the instant is in the edge's
+        // box then: only the vertices of `q` in `p`'s box are tried, and
+        // each only against the edges whose box may hold it; every bound
+        // rounded outward, so no triple that holds is skipped)
+        let ks: Vec<usize> = match MidRad::bounding_box(mp) {
+            Some(bp) => (0..q.len())
+                .filter(|&k| !mq[k].is_some_and(|m| m.outside_box(bp)))
+                .collect(),
+            None => (0..q.len()).collect(),
+        };
+        if ks.is_empty() {
+            continue;
+        }
+        let bq = MidRad::bounding_box(ks.iter().map(|&k| &mq[k]));
         for i in 0..p.len() {
             let j = (i + 1) % p.len();
             let (u, v) = (p[i], p[j]);
-            for (k, &w) in q.iter().enumerate() {
+            let edge = MidRad::bounding_box([&mp[i], &mp[j]]);
+            if let (Some(e), Some(bq)) = (edge, bq) {
+                if crate::geom::boxes_apart(e, bq) {
+                    continue;
+                }
+            }
+            for &k in &ks {
+                let w = q[k];
+                if let (Some(e), Some(m)) = (edge, mq[k]) {
+                    if m.outside_box(e) {
+                        continue;
+                    }
+                }
                 if rp[i] && rp[j] && rq[k] {
                     continue;
                 }
