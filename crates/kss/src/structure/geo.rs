@@ -442,6 +442,36 @@ thread_local! {
 }
 
 impl Approx {
+    /// Calls `f(k, i)` for each visible (not [`Approx::hidden`]) exposed
+    /// id `k` in increasing order, `i` being the exposed id before it
+    /// (cyclically): one pass over the set, each vertex's point read once
+    /// (`hidden` asks a predecessor and a successor for every id).
+    #[inline]
+    pub fn each_visible(&self, mut f: impl FnMut(usize, usize)) {
+        let ks: Vec<usize> = self.exposed.iter().collect();
+        let n = ks.len();
+        if n == 0 {
+            return;
+        }
+        // (the real vertex that the point of `ks[e]`, `av(i, k)` with `i`
+        // the id before it, is, if any: `here` for `e`, `first` for 0)
+        let first = self.array.av_is_real(ks[n - 1], ks[0]);
+        let mut here = first;
+        for e in 0..n {
+            let next = if e + 1 == n {
+                first
+            } else {
+                self.array.av_is_real(ks[e], ks[e + 1])
+            };
+            let hidden = matches!((here, next), (Some(u), Some(v)) if u == v);
+            debug_assert_eq!(hidden, self.hidden(ks[e]));
+            if !hidden {
+                f(ks[e], ks[(e + n - 1) % n]);
+            }
+            here = next;
+        }
+    }
+
     /// Whether exposed id `k` is hidden: its edge has length zero (three
     /// exposed lines through one real vertex), so its vertex coincides with
     /// the next one, which stands for both.
@@ -532,12 +562,11 @@ impl<'a> Geo<'a> {
     pub fn ids(&self, b: BodyId) -> Vec<u32> {
         match self.shapes.approx(b) {
             None => (0..self.world.body(b).shape.len() as u32).collect(),
-            Some(a) => a
-                .exposed
-                .iter()
-                .filter(|&k| !a.hidden(k))
-                .map(|k| k as u32)
-                .collect(),
+            Some(a) => {
+                let mut out = Vec::with_capacity(a.exposed.len());
+                a.each_visible(|k, _| out.push(k as u32));
+                out
+            }
         }
     }
 
