@@ -93,6 +93,9 @@ pub struct BodyPolygon {
     ivs: Vec<[Interval; 2]>,
     /// The body-frame bounding box (see [`BodyPolygon::bounds`]).
     bbox: [f64; 4],
+    /// A body-frame disk that holds the polygon (see
+    /// [`BodyPolygon::bounding_disk`]).
+    disk: ([f64; 2], f64),
     /// The largest bit length of the integer coordinates (below 63: the
     /// Minkowski passes run on `i128`, without allocation).
     bits: u32,
@@ -184,6 +187,7 @@ impl BodyPolygon {
                 .collect()
         });
         let first_edges = small.as_deref().map_or([0, 0], first_edges_i128);
+        let disk = bounding_disk(vertices, &bbox);
         let poly = BodyPolygon {
             xs,
             ys,
@@ -191,6 +195,7 @@ impl BodyPolygon {
             f64s: vertices.to_vec(),
             ivs,
             bbox,
+            disk,
             bits,
             small,
             first_edges,
@@ -352,6 +357,13 @@ impl BodyPolygon {
     /// the coordinates are the given doubles).
     pub fn bounds(&self) -> [f64; 4] {
         self.bbox
+    }
+
+    /// A body-frame disk `(centre, radius)` that holds the polygon: the
+    /// centre of the bounding box, and a radius rounded up from the
+    /// farthest vertex (an infinite radius where the distances overflow).
+    pub fn bounding_disk(&self) -> ([f64; 2], f64) {
+        self.disk
     }
 
     /// Twice the signed area, exactly.
@@ -1735,6 +1747,25 @@ impl EdgeSideFilter {
     }
 }
 
+/// The disk of [`BodyPolygon::bounding_disk`] for `vertices` with bounding
+/// box `bbox`: every distance enclosed with outward rounding.
+fn bounding_disk(vertices: &[[f64; 2]], bbox: &[f64; 4]) -> ([f64; 2], f64) {
+    let c = [0.5 * bbox[0] + 0.5 * bbox[1], 0.5 * bbox[2] + 0.5 * bbox[3]];
+    let p = Interval::point;
+    let r = vertices
+        .iter()
+        .map(|v| {
+            ((p(v[0]) - p(c[0])).square() + (p(v[1]) - p(c[1])).square())
+                .sqrt()
+                .hi
+        })
+        .fold(
+            0.0,
+            |r: f64, d| if d.is_nan() { f64::INFINITY } else { r.max(d) },
+        );
+    (c, r)
+}
+
 /// Whether body polygons `a` at `pa` and `b` at `pb` share a point (closed
 /// sets), exactly, in `O(n + m)`.
 pub fn placed_polygons_intersect(a: &BodyPolygon, pa: &Point, b: &BodyPolygon, pb: &Point) -> bool {
@@ -1768,6 +1799,39 @@ mod minkowski_tests {
     fn world(p: &BodyPolygon, at: [f64; 2]) -> Vec<Point> {
         let o = Point::from_f64(at).unwrap();
         (0..p.len()).map(|i| p.vertex(i).add(&o)).collect()
+    }
+
+    /// The bounding disk holds every vertex (distances compared exactly),
+    /// for regular polygons off the origin at scales from 1e-150 to 1e150,
+    /// and is not much larger than the polygon.
+    #[test]
+    fn bounding_disk_holds_every_vertex_exactly() {
+        let exact = |v: f64| Point::from_f64([v, 0.0]).expect("finite").x;
+        for (i, scale) in [1e-150, 1e-20, 1.0, 3.7, 1e20, 1e150]
+            .into_iter()
+            .enumerate()
+        {
+            for n in [3, 4, 7, 16, 257] {
+                let vs: Vec<[f64; 2]> = crate::gen::regular_polygon(n, scale, 0.1 * i as f64)
+                    .into_iter()
+                    .map(|[x, y]| [x + 0.3 * scale, y - 2.0 * scale])
+                    .collect();
+                let p = BodyPolygon::new(&vs).expect("a convex polygon");
+                let ([cx, cy], r) = p.bounding_disk();
+                assert!(
+                    r.is_finite() && r <= 1.5 * scale,
+                    "radius {r} at scale {scale}"
+                );
+                let r2 = exact(r).mul(&exact(r));
+                for v in &vs {
+                    let (dx, dy) = (exact(v[0]).sub(&exact(cx)), exact(v[1]).sub(&exact(cy)));
+                    assert!(
+                        dx.mul(&dx).add(&dy.mul(&dy)) <= r2,
+                        "{v:?} outside the disk"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

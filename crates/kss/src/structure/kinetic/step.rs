@@ -159,9 +159,24 @@ pub(super) fn contact_pairs(
             };
             let (ex, ey) = (boxed(bx), boxed(by));
             let boxes_meet = !(ex[1] < ey[0] || ey[1] < ex[0] || ex[3] < ey[2] || ey[3] < ex[2]);
+            // (then the polygons' disks, whose centres are certainly
+            // farther apart than the two radii for two round polygons
+            // whose boxes meet at a corner; each disk holds its polygon)
+            let disks_apart = || {
+                let centre = |body: &crate::world::Body| {
+                    let ([cx, cy], r) = body.shape.bounding_disk();
+                    let p = Interval::point;
+                    let [px, py] = body.frame.enclose(p(0.0), p(0.0), t.interval());
+                    (px + p(cx), py + p(cy), r)
+                };
+                let ((ax, ay, ra), (bx, by, rb)) = (centre(bx), centre(by));
+                let d = ((ax - bx).square() + (ay - by).square()).sqrt();
+                d.lo > (Interval::point(ra) + Interval::point(rb)).hi
+            };
             if bx.alive
                 && by.alive
                 && boxes_meet
+                && !disks_apart()
                 && crate::geom::placed_polygons_intersect(
                     &bx.shape,
                     &bx.traj.position_at(r),
