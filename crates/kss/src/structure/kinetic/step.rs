@@ -89,6 +89,24 @@ fn hint_contact(world: &Geo, p: &[Att; 3], t: &Time) {
     }
 }
 
+/// Whether bodies `x` and `y` are certainly apart at `t` by their
+/// polygons' bounding disks ([`crate::geom::BodyPolygon::bounding_disk`]):
+/// the distance of the placed centres, enclosed at `t`, exceeds the two
+/// radii. O(1), and it decides two round polygons whose boxes meet at a
+/// corner.
+fn disks_apart(world: &Geo, (x, y): (BodyId, BodyId), t: &Time) -> bool {
+    let centre = |b: BodyId| {
+        let body = world.world.body(b);
+        let ([cx, cy], r) = body.shape.bounding_disk();
+        let p = Interval::point;
+        let [px, py] = body.frame.enclose(p(0.0), p(0.0), t.interval());
+        (px + p(cx), py + p(cy), r)
+    };
+    let ((ax, ay, ra), (bx, by, rb)) = (centre(x), centre(y));
+    let d = ((ax - bx).square() + (ay - by).square()).sqrt();
+    d.lo > (Interval::point(ra) + Interval::point(rb)).hi
+}
+
 /// The pairs in contact at `t` for a contact failure of triple `p` between
 /// `a` and `b`: that pair, and any other pair among the triple's bodies and
 /// the bodies at the corners of the partition triangles that end the
@@ -159,24 +177,10 @@ pub(super) fn contact_pairs(
             };
             let (ex, ey) = (boxed(bx), boxed(by));
             let boxes_meet = !(ex[1] < ey[0] || ey[1] < ex[0] || ex[3] < ey[2] || ey[3] < ex[2]);
-            // (then the polygons' disks, whose centres are certainly
-            // farther apart than the two radii for two round polygons
-            // whose boxes meet at a corner; each disk holds its polygon)
-            let disks_apart = || {
-                let centre = |body: &crate::world::Body| {
-                    let ([cx, cy], r) = body.shape.bounding_disk();
-                    let p = Interval::point;
-                    let [px, py] = body.frame.enclose(p(0.0), p(0.0), t.interval());
-                    (px + p(cx), py + p(cy), r)
-                };
-                let ((ax, ay, ra), (bx, by, rb)) = (centre(bx), centre(by));
-                let d = ((ax - bx).square() + (ay - by).square()).sqrt();
-                d.lo > (Interval::point(ra) + Interval::point(rb)).hi
-            };
             if bx.alive
                 && by.alive
                 && boxes_meet
-                && !disks_apart()
+                && !disks_apart(world, (x, y), t)
                 && crate::geom::placed_polygons_intersect(
                     &bx.shape,
                     &bx.traj.position_at(r),
