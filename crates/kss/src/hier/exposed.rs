@@ -25,6 +25,8 @@ pub struct Exposed {
     fen: Vec<u32>,
     /// [`Exposed::version`].
     version: u64,
+    /// [`Exposed::last_removal`].
+    removal: u64,
 }
 
 impl PartialEq for Exposed {
@@ -64,6 +66,7 @@ impl Exposed {
             bits,
             fen: vec![0; words0 + 1],
             version: fresh_version(),
+            removal: fresh_version(),
         }
     }
 
@@ -73,6 +76,15 @@ impl Exposed {
     /// same). Caches key on it.
     pub fn version(&self) -> u64 {
         self.version
+    }
+
+    /// A number that names the last removal from the set (or its making),
+    /// never shared with another set unless by a clone: while it stays the
+    /// same, the set has only gained elements. For an approximation
+    /// (intersection of the exposed lines' half-planes) that means it only
+    /// shrank, so a box computed for it earlier still holds it.
+    pub fn last_removal(&self) -> u64 {
+        self.removal
     }
 
     /// The set of every index in `0..m`.
@@ -148,6 +160,7 @@ impl Exposed {
         self.fen_add(k >> 6, -1);
         self.len -= 1;
         self.version = fresh_version();
+        self.removal = fresh_version();
         true
     }
 
@@ -317,6 +330,24 @@ fn select_in_word(w: u64, mut r: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::Exposed;
+
+    #[test]
+    fn only_a_removal_changes_the_last_removal() {
+        let mut s = Exposed::from_indices(100, [3, 40, 77]);
+        let r0 = s.last_removal();
+        assert_ne!(Exposed::from_indices(100, [3, 40, 77]).last_removal(), r0);
+        s.insert(50);
+        s.insert(3);
+        assert_eq!(s.last_removal(), r0);
+        assert_eq!(s.clone().last_removal(), r0);
+        assert!(!s.remove(4));
+        assert_eq!(s.last_removal(), r0);
+        assert!(s.remove(50));
+        let r1 = s.last_removal();
+        assert_ne!(r1, r0);
+        s.insert(50);
+        assert_eq!(s.last_removal(), r1);
+    }
 
     #[test]
     fn every_change_gives_a_new_version_and_a_clone_keeps_it() {

@@ -146,9 +146,10 @@ pub struct Approx {
     pub exposed: Exposed,
     /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
     pub memo: EnclosureMemo,
-    /// The box of its vertices in the body's grid coordinates, for the
-    /// exposed set's [`Exposed::version`] it was computed for
-    /// ([`Geo::loose_box`]).
+    /// A box of its vertices in the body's grid coordinates, with the
+    /// exposed set's [`Exposed::last_removal`] when it was computed
+    /// ([`Geo::loose_box`]): the approximation has only shrunk since while
+    /// that stays.
     pub grid_box: std::cell::Cell<Option<(u64, [Interval; 2])>>,
 }
 
@@ -962,14 +963,17 @@ impl<'a> Geo<'a> {
 
     /// A box `[x, y]` that holds, at any time in `t`, every vertex that
     /// body `b` is seen with, as [`Geo::seen_box`], but for an
-    /// approximation the box of its vertices in the body's grid (kept
-    /// until the approximation changes) placed by the frame: O(1) per call
-    /// instead of an enclosure per vertex, and looser (a filter's box).
+    /// approximation a box of its vertices in the body's grid (kept while
+    /// the approximation only shrinks: computed again after a merge, not
+    /// after a pop) placed by the frame: O(1) per call instead of an
+    /// enclosure per vertex, and looser (a filter's box).
     pub fn loose_box(&self, b: BodyId, t: Interval) -> Option<[Interval; 2]> {
         let Some(ap) = self.shapes.approx(b) else {
             return self.seen_box(b, t);
         };
-        let version = ap.exposed.version();
+        // (kept while the approximation only shrinks: pops insert lines,
+        // only merges remove them)
+        let version = ap.exposed.last_removal();
         let grid = match ap.grid_box.get() {
             Some((v, g)) if v == version => g,
             _ => {
