@@ -770,6 +770,32 @@ pub fn orient_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
     sign_beyond(det, bound)
 }
 
+/// The sign of the dot product `(v − u)·(w − u)` for any three points
+/// within the radii of `u`, `v`, `w`, if the f64 evaluation at the
+/// midpoints with its error bound decides it and it is not zero: the bound
+/// of [`orient_mid_rad`] with the products paired as in the dot product,
+/// `|d1x|·u2x + u1x·|d2x| + u1x·u2x + |d1y|·u2y + u1y·|d2y| + u1y·u2y`
+/// for the points and `3ε(|d1x·d2x| + |d1y·d2y|)` for the evaluation.
+#[inline]
+pub fn dot_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
+    let (d1x, d1y) = (v.x - u.x, v.y - u.y);
+    let (d2x, d2y) = (w.x - u.x, w.y - u.y);
+    let (r1, r2) = (u.r + v.r, u.r + w.r);
+    let (u1x, u1y) = (r1 + EPS * d1x.abs(), r1 + EPS * d1y.abs());
+    let (u2x, u2y) = (r2 + EPS * d2x.abs(), r2 + EPS * d2y.abs());
+    let (p, q) = (d1x * d2x, d1y * d2y);
+    let dot = p + q;
+    let err = d1x.abs() * u2x
+        + u1x * d2x.abs()
+        + u1x * u2x
+        + d1y.abs() * u2y
+        + u1y * d2y.abs()
+        + u1y * u2y
+        + 3.0 * EPS * (p.abs() + q.abs());
+    let bound = err * (1.0 + 32.0 * EPS) + TINY;
+    sign_beyond(dot, bound)
+}
+
 impl MidRad {
     /// The order of the x coordinates of any two points within the radii
     /// of `self` and `other`, if the midpoints decide it (the margin of
@@ -1108,9 +1134,10 @@ mod tests {
         }));
     }
 
-    /// The midpoint–radius filter never contradicts the exact sign: points
-    /// on a grid (so that many triples are collinear or nearly so), each
-    /// perturbed within its radius, against exact rational orientation.
+    /// The midpoint–radius filters of the turn and the dot product never
+    /// contradict the exact sign: points on a grid (so that many triples
+    /// are collinear, at right angles, or nearly so), each perturbed within
+    /// its radius, against exact rational orientation and dot product.
     #[test]
     fn mid_rad_orientation_never_contradicts_the_exact_sign() {
         let mut seed = 0x2545_F491_4F6C_DD1Du64;
@@ -1120,7 +1147,7 @@ mod tests {
             seed ^= seed << 17;
             seed
         };
-        let mut decided = 0;
+        let (mut decided, mut dots) = (0, 0);
         for round in 0..20_000 {
             let scale = [1.0, 1e-12, 3.0e9, 0.1][round % 4];
             let mut pt = || {
@@ -1139,10 +1166,16 @@ mod tests {
                 decided += 1;
                 assert_eq!(s, o, "{a:?} {b:?} {c:?}");
             }
+            let (pa, pb, pc) = (exact(a.1), exact(b.1), exact(c.1));
+            let dot = pb.sub(&pa).dot(&pc.sub(&pa));
+            if let Some(s) = dot_mid_rad(a.0, b.0, c.0) {
+                dots += 1;
+                assert_eq!(s, dot.sign(), "dot {a:?} {b:?} {c:?}");
+            }
         }
         assert!(
-            decided > 10_000,
-            "the filter decides most triples ({decided})"
+            decided > 10_000 && dots > 10_000,
+            "the filters decide most triples ({decided} turns, {dots} dots)"
         );
     }
 

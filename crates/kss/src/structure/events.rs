@@ -214,6 +214,12 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
                 super::counters::bump(super::counters::Counter::TurnsFiltered);
                 return Some(false);
             }
+            // (u beyond an end of the edge, the usual case for the failing
+            // triple itself, whose turn is zero at `t`: its dot product on
+            // the same placed points, before the turn's interval filter)
+            if crate::geom::dot_mid_rad(mu, m0, m1) == Some(crate::num::Sign::Positive) {
+                return Some(false);
+            }
         }
         if world.orient_filtered(e0, e1, u, tiv).is_some() {
             return Some(false);
