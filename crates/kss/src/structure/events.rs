@@ -56,9 +56,18 @@ pub fn classify(world: &Geo, c: &Cert, t: &Time) -> Failure {
     // which point is strictly between the other two: (a − m)·(b − m) < 0,
     // from the filter where it decides (at most one point can be), exactly
     // otherwise
+    // (the three points placed once for the midpoint–radius filter, the
+    // interval filter only where it does not decide)
     let tiv = t.interval();
+    let mids = c.p.map(|a| world.mid_rad(a, tiv));
     let filtered: [Option<crate::num::Sign>; 3] = std::array::from_fn(|m| {
-        world.dot_filtered(c.p[(m + 1) % 3], c.p[m], c.p[(m + 2) % 3], tiv)
+        let (u, v, w) = (m, (m + 1) % 3, (m + 2) % 3);
+        if let (Some(mu), Some(mv), Some(mw)) = (mids[u], mids[v], mids[w]) {
+            if let Some(s) = crate::geom::dot_mid_rad(mu, mv, mw) {
+                return Some(s);
+            }
+        }
+        world.dot_filtered(c.p[v], c.p[u], c.p[w], tiv)
     });
     let middle = match filtered
         .iter()
