@@ -1087,9 +1087,19 @@ impl<'a> Geo<'a> {
         s
     }
 
-    /// The sign of `(u − v)·(w − v)` at a time in `t` if the f64 filter
-    /// decides it and it is not zero; `None` otherwise.
+    /// The sign of `(u − v)·(w − v)` at a time in `t` if the f64 filters
+    /// decide it (midpoint–radius, [`crate::geom::dot_mid_rad`], then
+    /// intervals) and it is not zero; `None` otherwise.
     pub fn dot_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
+        // the midpoint–radius filter first, on the cached points, as for
+        // the turns
+        if let (Some(a), Some(b), Some(c)) =
+            (self.mid_rad(u, t), self.mid_rad(v, t), self.mid_rad(w, t))
+        {
+            if let Some(s) = crate::geom::dot_mid_rad(b, a, c) {
+                return Some(s);
+            }
+        }
         let [ux, uy] = self.enclose(u, t)?;
         let [vx, vy] = self.enclose(v, t)?;
         let [wx, wy] = self.enclose(w, t)?;
