@@ -979,14 +979,27 @@ impl<'a> Geo<'a> {
             _ => {
                 let body = &self.world.body(b).shape;
                 let mut out: Option<[Interval; 2]> = None;
-                for k in ap.exposed.iter().filter(|&k| !ap.hidden(k)) {
-                    let Some(e) = ap.array.vertex_enclose(body, &ap.exposed, k) else {
-                        return self.seen_box(b, t);
+                let mut failed = false;
+                // (the visible vertices in one pass, each `av(i, k)` with
+                // the exposed id `i` before it, as `vertex_enclose` reads it)
+                ap.each_visible(|k, i| {
+                    let e = match ap.array.av_is_real(i, k) {
+                        Some(v) => Some(body.int_vertex_enclosure(v)),
+                        None => ap.array.av_enclose(i, k),
                     };
-                    out = Some(match out {
-                        None => e,
-                        Some(o) => [o[0].hull(&e[0]), o[1].hull(&e[1])],
-                    });
+                    debug_assert_eq!(e, ap.array.vertex_enclose(body, &ap.exposed, k));
+                    match e {
+                        Some(e) => {
+                            out = Some(match out {
+                                None => e,
+                                Some(o) => [o[0].hull(&e[0]), o[1].hull(&e[1])],
+                            })
+                        }
+                        None => failed = true,
+                    }
+                });
+                if failed {
+                    return self.seen_box(b, t);
                 }
                 let g = out?;
                 ap.grid_box.set(Some((version, g)));
