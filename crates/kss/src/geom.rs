@@ -93,9 +93,6 @@ pub struct BodyPolygon {
     ivs: Vec<[Interval; 2]>,
     /// The body-frame bounding box (see [`BodyPolygon::bounds`]).
     bbox: [f64; 4],
-    /// A body-frame disk that holds the polygon, computed on first use
-    /// (see [`BodyPolygon::bounding_disk`]).
-    disk: DiskCell,
     /// The largest bit length of the integer coordinates (below 63: the
     /// Minkowski passes run on `i128`, without allocation).
     bits: u32,
@@ -106,18 +103,6 @@ pub struct BodyPolygon {
     /// least angle reversed (where the Minkowski walk starts on this
     /// polygon as `B` and as `A`).
     first_edges: [usize; 2],
-}
-
-/// The bounding disk of a [`BodyPolygon`], computed on first use (a
-/// polygon of `2^16` vertices that never needs it does not pay for it). Not
-/// part of the polygon's value: any two compare equal.
-#[derive(Clone, Debug, Default)]
-struct DiskCell(std::sync::OnceLock<([f64; 2], f64)>);
-
-impl PartialEq for DiskCell {
-    fn eq(&self, _: &DiskCell) -> bool {
-        true
-    }
 }
 
 /// What is wrong with a vertex list (see [`BodyPolygon::new`]).
@@ -206,7 +191,6 @@ impl BodyPolygon {
             f64s: vertices.to_vec(),
             ivs,
             bbox,
-            disk: DiskCell::default(),
             bits,
             small,
             first_edges,
@@ -374,10 +358,7 @@ impl BodyPolygon {
     /// centre of the bounding box, and a radius rounded up from the
     /// farthest vertex (an infinite radius where the distances overflow).
     pub fn bounding_disk(&self) -> ([f64; 2], f64) {
-        *self
-            .disk
-            .0
-            .get_or_init(|| bounding_disk(&self.f64s, &self.bbox))
+        bounding_disk(&self.f64s, &self.bbox)
     }
 
     /// Twice the signed area, exactly.
