@@ -206,9 +206,9 @@ pub fn triangulate(
             continue;
         }
         match insert_segment(&mut mesh, u, v, &fixed, p) {
-            Ok(mut fresh) => {
+            Ok(fresh) => {
                 fixed.insert(key);
-                legalize(&mut mesh, &mut fresh, &fixed, p);
+                legalize(&mut mesh, fresh, &fixed, p);
             }
             // (found before any flip: the mesh is unchanged)
             Err(Cross) => crossing.push([u as usize, v as usize]),
@@ -234,17 +234,20 @@ const ORDER_SEED: u64 = 0x006b_7373_5f63_6474;
 /// large polygons facing each other across a gap cost a number of flips in
 /// the square of their count.
 fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
+    let mut sorted: Vec<usize> = (0..n).collect();
+    sorted.sort_by(|&a, &b| p.cmp(a, b));
+    for w in sorted.windows(2) {
+        if p.cmp(w[0], w[1]) == Ordering::Equal {
+            return Err(CdtError::Coincident(w[0], w[1]));
+        }
+    }
     if n < 3 {
         return Err(CdtError::Collinear);
     }
     let order = insertion_order(n, p);
     // the first triangle: the first two vertices and the first one off
-    // their line (two vertices that coincide are found here for the first
-    // two, and by `locate` for every later one: no sort of all of them)
+    // their line
     let (a0, b0) = (order[0], order[1]);
-    if p.cmp(a0, b0) == Ordering::Equal {
-        return Err(CdtError::Coincident(a0, b0));
-    }
     let Some(k) = (2..n).find(|&k| p.orient(a0, b0, order[k]) != Sign::Zero) else {
         return Err(CdtError::Collinear);
     };
@@ -276,20 +279,18 @@ fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
     let no_segments = HashSet::default();
     let mut rng = crate::rng::Rng::new(ORDER_SEED);
     let mut hint = 0u32;
-    // (the sides to make Delaunay, one buffer for every insertion)
-    let mut link: Vec<(u32, u32)> = Vec::with_capacity(16);
     for (idx, &v) in order.iter().enumerate() {
         if idx < 2 || idx == k {
             continue;
         }
         let v32 = v as u32;
-        match locate(&mesh, hint, v, p, &mut rng) {
-            Located::Inside(t) => split_triangle(&mut mesh, t, v32, &mut link),
-            Located::OnSide(t, i) => split_side(&mut mesh, &mut hull, (t, i), v32, &mut link),
-            Located::Outside(t, i) => attach_outside(&mut mesh, &mut hull, t, i, v32, p, &mut link),
+        let link = match locate(&mesh, hint, v, p, &mut rng) {
+            Located::Inside(t) => split_triangle(&mut mesh, t, v32),
+            Located::OnSide(t, i) => split_side(&mut mesh, &mut hull, t, i, v32),
+            Located::Outside(t, i) => attach_outside(&mut mesh, &mut hull, t, i, v32, p),
             Located::Corner(w) => return Err(CdtError::Coincident(v, w as usize)),
-        }
-        legalize(&mut mesh, &mut link, &no_segments, p);
+        };
+        legalize(&mut mesh, link, &no_segments, p);
         hint = mesh.at[v];
     }
     Ok(mesh)
@@ -431,7 +432,7 @@ fn locate(
 
 /// Split triangle `t` at `v`, strictly inside it, into three; returns its
 /// three old sides (to make Delaunay).
-fn split_triangle(mesh: &mut Mesh, t: u32, v: u32, link: &mut Vec<(u32, u32)>) {
+fn split_triangle(mesh: &mut Mesh, t: u32, v: u32) -> Vec<(u32, u32)> {
     let [a, b, c] = mesh.tri[t as usize];
     let [n_ab, n_bc, n_ca] = mesh.nbr[t as usize];
     let (t1, t2) = (mesh.tri.len() as u32, mesh.tri.len() as u32 + 1);
@@ -447,19 +448,13 @@ fn split_triangle(mesh: &mut Mesh, t: u32, v: u32, link: &mut Vec<(u32, u32)>) {
     mesh.at[b as usize] = t;
     mesh.at[v as usize] = t;
     mesh.at[c as usize] = t1;
-    link.extend([(a, b), (b, c), (c, a)]);
+    vec![(a, b), (b, c), (c, a)]
 }
 
 /// Split the side `i` of `t` at `v`, strictly between its ends: its two
 /// triangles (one on the hull) into four (two); returns the sides of the
 /// new triangles opposite `v` (to make Delaunay).
-fn split_side(
-    mesh: &mut Mesh,
-    hull: &mut Hull,
-    (t, i): (u32, usize),
-    v: u32,
-    link: &mut Vec<(u32, u32)>,
-) {
+fn split_side(mesh: &mut Mesh, hull: &mut Hull, t: u32, i: usize, v: u32) -> Vec<(u32, u32)> {
     let c3 = mesh.tri[t as usize];
     let (a, b, c) = (c3[i], c3[(i + 1) % 3], c3[(i + 2) % 3]);
     let u = mesh.nbr[t as usize][i];
@@ -478,13 +473,13 @@ fn split_side(
     mesh.at[c as usize] = t;
     mesh.at[v as usize] = t;
     mesh.at[b as usize] = t1;
-    link.extend([(c, a), (b, c)]);
+    let mut link = vec![(c, a), (b, c)];
     if u == NONE {
         hull.next[a as usize] = v;
         hull.prev[v as usize] = a;
         hull.next[v as usize] = b;
         hull.prev[b as usize] = v;
-        return;
+        return link;
     }
     let j = mesh.side(u, b, a).expect("the neighbour holds the side");
     let d = mesh.tri[u as usize][(j + 2) % 3];
@@ -497,6 +492,7 @@ fn split_side(
     mesh.link(n_ad, d, a, u1);
     mesh.at[d as usize] = u;
     link.extend([(d, b), (a, d)]);
+    link
 }
 
 /// Join `v`, outside the hull and strictly beyond its edge on side `i` of
@@ -509,8 +505,7 @@ fn attach_outside(
     i: usize,
     v: u32,
     p: &impl Predicates,
-    covered: &mut Vec<(u32, u32)>,
-) {
+) -> Vec<(u32, u32)> {
     let sees = |a: u32, b: u32| p.orient(a as usize, b as usize, v as usize) == Sign::Negative;
     let c3 = mesh.tri[t as usize];
     let (mut left, mut right) = (c3[i], c3[(i + 1) % 3]);
@@ -520,6 +515,7 @@ fn attach_outside(
     while sees(hull.prev[left as usize], left) {
         left = hull.prev[left as usize];
     }
+    let mut covered = Vec::new();
     let mut a = left;
     let mut before = NONE;
     while a != right {
@@ -548,6 +544,7 @@ fn attach_outside(
     hull.prev[v as usize] = left;
     hull.next[v as usize] = right;
     hull.prev[right as usize] = v;
+    covered
 }
 
 /// Lawson's flips from the edges in `todo`: an edge that is not a segment
@@ -555,7 +552,7 @@ fn attach_outside(
 /// and whose quadrilateral is strictly convex, is flipped.
 fn legalize(
     mesh: &mut Mesh,
-    todo: &mut Vec<(u32, u32)>,
+    mut todo: Vec<(u32, u32)>,
     fixed: &HashSet<(u32, u32), foldhash::fast::FixedState>,
     p: &impl Predicates,
 ) {
