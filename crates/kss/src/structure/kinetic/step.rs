@@ -92,8 +92,9 @@ fn hint_contact(world: &Geo, p: &[Att; 3], t: &Time) {
 /// Whether bodies `x` and `y` are certainly apart at `t` by their
 /// polygons' bounding disks ([`crate::geom::BodyPolygon::bounding_disk`]):
 /// the distance of the placed centres, enclosed at `t`, exceeds the two
-/// radii. O(1), and it decides two round polygons whose boxes meet at a
-/// corner.
+/// radii. One pass over both polygons' vertices in doubles (where the
+/// exact test walks their Minkowski difference in integers); it decides
+/// two round polygons whose boxes meet at a corner.
 fn disks_apart(world: &Geo, (x, y): (BodyId, BodyId), t: &Time) -> bool {
     let centre = |b: BodyId| {
         let body = world.world.body(b);
