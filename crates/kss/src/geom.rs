@@ -357,8 +357,8 @@ impl BodyPolygon {
     /// A body-frame disk `(centre, radius)` that holds the polygon: the
     /// centre of the bounding box, and a radius rounded up from the
     /// farthest vertex (an infinite radius where the distances overflow).
-    /// Computed at each call, O(n) in doubles (a field in every polygon
-    /// raised the benchmark's peak memory).
+    /// Computed at each call, O(n) in doubles (not kept in the polygon: a
+    /// field per polygon moves the benchmark's peak memory by megabytes).
     pub fn bounding_disk(&self) -> ([f64; 2], f64) {
         bounding_disk(&self.f64s, &self.bbox)
     }
