@@ -749,22 +749,8 @@ fn sign_beyond(v: f64, bound: f64) -> Option<Sign> {
 /// factor `1 + 32ε` and `TINY` for underflow.
 #[inline]
 pub fn orient_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
-    let (d1x, d1y) = (v.x - u.x, v.y - u.y);
-    let (d2x, d2y) = (w.x - u.x, w.y - u.y);
-    let (r1, r2) = (u.r + v.r, u.r + w.r);
-    let (u1x, u1y) = (r1 + EPS * d1x.abs(), r1 + EPS * d1y.abs());
-    let (u2x, u2y) = (r2 + EPS * d2x.abs(), r2 + EPS * d2y.abs());
-    let (p, q) = (d1x * d2y, d1y * d2x);
-    let det = p - q;
-    let err = d1x.abs() * u2y
-        + u1x * d2y.abs()
-        + u1x * u2y
-        + d1y.abs() * u2x
-        + u1y * d2x.abs()
-        + u1y * u2x
-        + 3.0 * EPS * (p.abs() + q.abs());
-    let bound = err * (1.0 + 32.0 * EPS) + TINY;
-    sign_beyond(det, bound)
+    let ([d1x, d1y], [u1x, u1y], [d2x, d2y], [u2x, u2y]) = mid_rad_differences(u, v, w);
+    two_products_sign([(d1x, u1x), (d2y, u2y)], [(d1y, u1y), (d2x, u2x)], true)
 }
 
 /// The sign of the dot product `(v − u)·(w − u)` for any three points
@@ -775,22 +761,53 @@ pub fn orient_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
 /// for the points and `3ε(|d1x·d2x| + |d1y·d2y|)` for the evaluation.
 #[inline]
 pub fn dot_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
+    let ([d1x, d1y], [u1x, u1y], [d2x, d2y], [u2x, u2y]) = mid_rad_differences(u, v, w);
+    two_products_sign([(d1x, u1x), (d2x, u2x)], [(d1y, u1y), (d2y, u2y)], false)
+}
+
+/// `d1 = v − u` and `d2 = w − u` computed in f64 at the midpoints, each
+/// with a bound per coordinate on its distance from every pair of points
+/// within the radii (the radii and the subtraction's rounding): `(d1, u1,
+/// d2, u2)`.
+#[inline]
+fn mid_rad_differences(
+    u: MidRad,
+    v: MidRad,
+    w: MidRad,
+) -> ([f64; 2], [f64; 2], [f64; 2], [f64; 2]) {
     let (d1x, d1y) = (v.x - u.x, v.y - u.y);
     let (d2x, d2y) = (w.x - u.x, w.y - u.y);
     let (r1, r2) = (u.r + v.r, u.r + w.r);
-    let (u1x, u1y) = (r1 + EPS * d1x.abs(), r1 + EPS * d1y.abs());
-    let (u2x, u2y) = (r2 + EPS * d2x.abs(), r2 + EPS * d2y.abs());
-    let (p, q) = (d1x * d2x, d1y * d2y);
-    let dot = p + q;
-    let err = d1x.abs() * u2x
-        + u1x * d2x.abs()
-        + u1x * u2x
-        + d1y.abs() * u2y
-        + u1y * d2y.abs()
-        + u1y * u2y
+    (
+        [d1x, d1y],
+        [r1 + EPS * d1x.abs(), r1 + EPS * d1y.abs()],
+        [d2x, d2y],
+        [r2 + EPS * d2x.abs(), r2 + EPS * d2y.abs()],
+    )
+}
+
+/// The sign of `a·b − c·d` (`minus`) or `a·b + c·d`, each factor given as
+/// `(value, bound on its error)`, where the f64 evaluation with its error
+/// bound decides it: `|a|·eb + ea·|b| + ea·eb` and the same for `c·d` for
+/// the factors, `3ε(|a·b| + |c·d|)` for the evaluation, the bound computed
+/// with a factor `1 + 32ε` and `TINY` for underflow.
+#[inline]
+fn two_products_sign(
+    [(a, ea), (b, eb)]: [(f64, f64); 2],
+    [(c, ec), (d, ed)]: [(f64, f64); 2],
+    minus: bool,
+) -> Option<Sign> {
+    let (p, q) = (a * b, c * d);
+    let value = if minus { p - q } else { p + q };
+    let err = a.abs() * eb
+        + ea * b.abs()
+        + ea * eb
+        + c.abs() * ed
+        + ec * d.abs()
+        + ec * ed
         + 3.0 * EPS * (p.abs() + q.abs());
     let bound = err * (1.0 + 32.0 * EPS) + TINY;
-    sign_beyond(dot, bound)
+    sign_beyond(value, bound)
 }
 
 impl MidRad {
