@@ -217,7 +217,7 @@ impl KineticEngine {
                 let body = world.body(BodyId(i as u32));
                 if body.alive {
                     ap.array
-                        .check_exposed(&body.shape, &ap.exposed)
+                        .check_exposed(&body.shape, ap.exposed())
                         .map_err(|e| format!("approximation of {}: {e}", body.id))?;
                 }
             }

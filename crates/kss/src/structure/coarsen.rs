@@ -162,11 +162,11 @@ impl Kss {
         }
         let ap = shapes.approx(bid)?;
         let kk = kv.v as usize;
-        let (p, q) = (ap.exposed.pred(kk)?, ap.exposed.succ(kk)?);
+        let (p, q) = (ap.exposed().pred(kk)?, ap.exposed().succ(kk)?);
         if q != qv.v as usize || ap.hidden(kk) || ap.hidden(p) || ap.hidden(q) {
             return None;
         }
-        if !ap.array.merge_ok(&ap.exposed, kk) {
+        if !ap.array.merge_ok(ap.exposed(), kk) {
             return None;
         }
         // positions at `t`: A (id k), C (id q) now; Z (id q) after; the
@@ -310,13 +310,13 @@ impl Kss {
         let mid_before = c.mid;
         {
             let ap = shapes.per[bid.index()].as_mut()?;
-            if !ap.array.merge(&mut ap.exposed, kk) {
+            if !ap.merge(kk) {
                 return None;
             }
         }
         let undo = |shapes: &mut Shapes| {
             if let Some(ap) = shapes.per[bid.index()].as_mut() {
-                ap.exposed.insert(kk);
+                ap.unmerge(kk);
             }
         };
         {

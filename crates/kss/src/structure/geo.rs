@@ -142,8 +142,14 @@ impl PointRef {
 pub struct Approx {
     /// The body's replicated edge array.
     pub array: Arc<EdgeArray>,
-    /// The exposed indices: the current approximation.
-    pub exposed: Exposed,
+    /// The exposed indices: the current approximation ([`Approx::exposed`];
+    /// changed only by [`Approx::pop`], [`Approx::merge`] and
+    /// [`Approx::unmerge`], which keep `visible` with it).
+    exposed: Exposed,
+    /// The exposed ids that are not [`Approx::hidden`]: the vertices the
+    /// structure sees, in order, so that a walk of `k` steps round the
+    /// approximation is a rank and a select, and one step a predecessor.
+    visible: Exposed,
     /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
     pub memo: EnclosureMemo,
     /// A box of its vertices in the body's grid coordinates, with the
@@ -480,28 +486,188 @@ impl Approx {
         let (Some(i), Some(j)) = (self.exposed.pred(k), self.exposed.succ(k)) else {
             return false;
         };
+        self.hidden_between(i, k, j)
+    }
+
+    /// An approximation of exposed set `exposed` of `array`.
+    pub fn new(array: Arc<EdgeArray>, exposed: Exposed) -> Approx {
+        let mut visible = Exposed::new(exposed.universe());
+        let memo = EnclosureMemo::new(exposed.len());
+        let mut ap = Approx {
+            array,
+            exposed: Exposed::new(1),
+            visible: Exposed::new(1),
+            memo,
+            grid_box: Default::default(),
+        };
+        ap.exposed = exposed;
+        ap.each_visible(|k, _| {
+            visible.insert(k);
+        });
+        ap.visible = visible;
+        ap
+    }
+
+    /// The exposed indices: the current approximation.
+    pub fn exposed(&self) -> &Exposed {
+        &self.exposed
+    }
+
+    /// Pop the vertex with id `k` ([`EdgeArray::pop`]): the id inserted.
+    pub fn pop(&mut self, k: usize) -> Option<usize> {
+        let t = self.array.pop(&mut self.exposed, k)?;
+        self.sync_visible(t);
+        Some(t)
+    }
+
+    /// Merge id `k` away if [`EdgeArray::merge_ok`]; whether it did.
+    pub fn merge(&mut self, k: usize) -> bool {
+        let merged = self.array.merge(&mut self.exposed, k);
+        if merged {
+            self.sync_visible(k);
+        }
+        merged
+    }
+
+    /// Put back id `k`, merged away just before (a merge taken back).
+    pub fn unmerge(&mut self, k: usize) {
+        if self.exposed.insert(k) {
+            self.sync_visible(k);
+        }
+    }
+
+    /// Bring [`Approx::visible`] up to date after id `x` entered or left
+    /// the exposed set: only `x` and its two exposed neighbours (whose
+    /// neighbour `x` is or was) can have become hidden or visible.
+    fn sync_visible(&mut self, x: usize) {
+        let s = &self.exposed;
+        let (Some(p), Some(q)) = (s.pred(x), s.succ(x)) else {
+            self.visible.remove(x);
+            return;
+        };
+        let mut ids: arrayvec::ArrayVec<usize, 3> = arrayvec::ArrayVec::new();
+        ids.push(p);
+        if s.contains(x) {
+            ids.push(x);
+        } else {
+            self.visible.remove(x);
+        }
+        ids.push(q);
+        for y in ids {
+            if self.hidden(y) {
+                self.visible.remove(y);
+            } else {
+                self.visible.insert(y);
+            }
+        }
+        #[cfg(debug_assertions)]
+        {
+            let mut all = Vec::new();
+            self.each_visible(|k, _| all.push(k));
+            debug_assert_eq!(
+                all,
+                self.visible.iter().collect::<Vec<_>>(),
+                "the visible set is not the exposed ids that are not hidden"
+            );
+        }
+    }
+
+    /// The visible ids (the ids of [`Approx::each_visible`]) as a set.
+    pub fn visible(&self) -> &Exposed {
+        &self.visible
+    }
+
+    /// The visible id after `k` (counter-clockwise): the first exposed id
+    /// after `k` that is not [`Approx::hidden`], or `k` when there is none.
+    pub fn next_visible(&self, k: usize) -> usize {
+        let x = self.visible.succ(k).unwrap_or(k);
+        debug_assert_eq!(x, self.next_visible_walk(k));
+        x
+    }
+
+    /// The visible id before `k` (clockwise), as [`Approx::next_visible`]
+    /// in the other direction.
+    pub fn prev_visible(&self, k: usize) -> usize {
+        let x = self.visible.pred(k).unwrap_or(k);
+        debug_assert_eq!(x, self.prev_visible_walk(k));
+        x
+    }
+
+    /// The visible id `k` steps clockwise from `from` (walking
+    /// [`Approx::prev_visible`] `k` times): a rank and a select.
+    pub fn cw(&self, from: usize, k: u32) -> usize {
+        let v = &self.visible;
+        // (a few steps are cheaper as predecessors than as a rank and a
+        // select, each a pass over a Fenwick tree)
+        if k <= 8 {
+            let mut x = from;
+            for _ in 0..k {
+                x = v.pred(x).unwrap_or(x);
+            }
+            return x;
+        }
+        let l = v.len();
+        if l == 0 {
+            return from;
+        }
+        // (each step lowers the rank by one, cyclically; a hidden `from`
+        // has the rank of the visible id after it)
+        let r = v.rank(from) as u64;
+        let l64 = l as u64;
+        let target = (r + l64 - u64::from(k) % l64) % l64;
+        v.select(target as usize).expect("a rank below the length")
+    }
+
+    /// The number of clockwise steps ([`Approx::prev_visible`]) from
+    /// `from` to `to`, with `0` for `to == from`, if at most `limit`;
+    /// `None` if the walk never meets `to` (a hidden or unexposed `to`).
+    pub fn cw_distance(&self, from: usize, to: usize, limit: u32) -> Option<u32> {
+        if from == to {
+            return Some(0);
+        }
+        let v = &self.visible;
+        if !v.contains(to) {
+            return None;
+        }
+        let l = v.len() as u64;
+        let (rf, rt) = (v.rank(from) as u64, v.rank(to) as u64);
+        let d = if v.contains(from) {
+            (rf + l - rt) % l
+        } else {
+            (rf + l - rt + l - 1) % l + 1
+        };
+        let d = u32::try_from(d).ok()?;
+        (d <= limit).then_some(d)
+    }
+
+    /// [`Approx::next_visible`] by walking the exposed set (debug checks).
+    fn next_visible_walk(&self, k: usize) -> usize {
+        let s = &self.exposed;
+        let mut x = s.succ(k).expect("a non-empty set");
+        while self.hidden(x) && x != k {
+            x = s.succ(x).expect("a non-empty set");
+        }
+        x
+    }
+
+    /// [`Approx::prev_visible`] by walking the exposed set (debug checks).
+    fn prev_visible_walk(&self, k: usize) -> usize {
+        let s = &self.exposed;
+        let mut x = s.pred(k).expect("a non-empty set");
+        while self.hidden(x) && x != k {
+            x = s.pred(x).expect("a non-empty set");
+        }
+        x
+    }
+
+    /// [`Approx::hidden`] of exposed id `k` given the exposed ids `i`
+    /// before it and `j` after it.
+    #[inline]
+    fn hidden_between(&self, i: usize, k: usize, j: usize) -> bool {
         match (self.array.av_is_real(i, k), self.array.av_is_real(k, j)) {
             (Some(u), Some(v)) => u == v,
             _ => false,
         }
-    }
-
-    /// The visible id after `k` (counter-clockwise).
-    pub fn next_visible(&self, k: usize) -> usize {
-        let mut x = self.exposed.succ(k).expect("a non-empty set");
-        while self.hidden(x) && x != k {
-            x = self.exposed.succ(x).expect("a non-empty set");
-        }
-        x
-    }
-
-    /// The visible id before `k` (clockwise).
-    pub fn prev_visible(&self, k: usize) -> usize {
-        let mut x = self.exposed.pred(k).expect("a non-empty set");
-        while self.hidden(x) && x != k {
-            x = self.exposed.pred(x).expect("a non-empty set");
-        }
-        x
     }
 }
 
@@ -547,7 +713,7 @@ impl<'a> Geo<'a> {
     pub fn count(&self, b: BodyId) -> u32 {
         match self.shapes.approx(b) {
             None => self.world.body(b).shape.len() as u32,
-            Some(a) => a.exposed.iter().filter(|&k| !a.hidden(k)).count() as u32,
+            Some(a) => a.visible.len() as u32,
         }
     }
 
@@ -586,15 +752,8 @@ impl<'a> Geo<'a> {
                     _ => (a.v + n - (k % n)) % n,
                 }
             }
-            Some(ap) => {
-                // walking `k` steps round the cycle is walking `k mod n`
-                // (no O(|S|) count of the visible ids first)
-                let mut x = a.v as usize;
-                for _ in 0..k {
-                    x = self.shapes.links.prev_visible(b, ap, x);
-                }
-                x as u32
-            }
+            Some(ap) if k == 1 => self.shapes.links.prev_visible(b, ap, a.v as usize) as u32,
+            Some(ap) => ap.cw(a.v as usize, k) as u32,
         };
         Att { obj: a.obj, v }
     }
@@ -615,19 +774,7 @@ impl<'a> Geo<'a> {
                 let d = (from.v + n - to.v) % n;
                 (d <= limit).then_some(d)
             }
-            Some(ap) => {
-                let mut x = from.v as usize;
-                for d in 0..=limit {
-                    if x == to.v as usize {
-                        return Some(d);
-                    }
-                    x = self.shapes.links.prev_visible(b, ap, x);
-                    if x == from.v as usize {
-                        return None;
-                    }
-                }
-                None
-            }
+            Some(ap) => ap.cw_distance(from.v as usize, to.v as usize, limit),
         }
     }
 
@@ -1040,7 +1187,7 @@ impl<'a> Geo<'a> {
             }
             Some(ap) => {
                 let mut out: Option<[Interval; 2]> = None;
-                for k in ap.exposed.iter().filter(|&k| !ap.hidden(k)) {
+                for k in ap.visible.iter() {
                     let e = self.enclose(Att::vertex(b, k as u32), t)?;
                     out = Some(match out {
                         None => e,

@@ -72,11 +72,13 @@ impl Default for PlacedRing {
     }
 }
 
-/// A piece of chain in face order: from `start` clockwise over `len` edges.
+/// A piece of chain in face order: from `start` clockwise over `len` edges
+/// to `end`.
 #[derive(Clone, Copy, Debug)]
 struct Piece {
     start: Att,
     len: u32,
+    end: Att,
 }
 
 /// A corridor face: two pieces, the bridge from the first piece's last vertex
@@ -340,42 +342,27 @@ impl Kss {
         if c.b == Obj::Omega || (c.len_a == 0 && c.len_b == 0) {
             return out;
         }
-        let (a_s, _b_s, _a_t, b_t) = self.ends(k);
+        // (chain a runs clockwise from a_s over len_a edges to a_t, chain b
+        // from b_t to b_s)
+        let (a_s, b_s, a_t, b_t) = self.ends(k);
+        let piece = |start: Att, len: u32, end: Att| {
+            debug_assert_eq!(end, step_cw(world, start, len), "a chain's end");
+            Piece { start, len, end }
+        };
         match mid {
             None => out.push(Face {
-                p: [
-                    Piece {
-                        start: a_s,
-                        len: c.len_a,
-                    },
-                    Piece {
-                        start: b_t,
-                        len: c.len_b,
-                    },
-                ],
+                p: [piece(a_s, c.len_a, a_t), piece(b_t, c.len_b, b_s)],
                 e: [EdgeRef::EndT, EdgeRef::EndS],
             }),
             Some((i, j)) => {
                 let alpha = step_cw(world, a_s, i);
                 let beta = step_cw(world, b_t, j);
                 out.push(Face {
-                    p: [
-                        Piece { start: a_s, len: i },
-                        Piece {
-                            start: beta,
-                            len: c.len_b - j,
-                        },
-                    ],
+                    p: [piece(a_s, i, alpha), piece(beta, c.len_b - j, b_s)],
                     e: [EdgeRef::Mid, EdgeRef::EndS],
                 });
                 out.push(Face {
-                    p: [
-                        Piece {
-                            start: alpha,
-                            len: c.len_a - i,
-                        },
-                        Piece { start: b_t, len: j },
-                    ],
+                    p: [piece(alpha, c.len_a - i, a_t), piece(b_t, j, beta)],
                     e: [EdgeRef::EndT, EdgeRef::Mid],
                 });
             }
@@ -397,7 +384,7 @@ impl Kss {
                 if f.p[0].len == 0 && f.p[1].len == 0 {
                     return None;
                 }
-                let last = |p: Piece| step_cw(world, p.start, p.len);
+                let last = |p: Piece| p.end;
                 let mut out = FaceJunctions::new();
                 for x in 0..2 {
                     let p = f.p[x];

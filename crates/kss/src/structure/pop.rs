@@ -212,10 +212,10 @@ impl Kss {
             let Some(ap) = shapes.approx(b) else {
                 return PopResult::NotPopped;
             };
-            if !ap.exposed.contains(k) || ap.hidden(k) {
+            if !ap.exposed().contains(k) || ap.hidden(k) {
                 return PopResult::NotPopped;
             }
-            match ap.exposed.pred(k) {
+            match ap.exposed().pred(k) {
                 Some(i) => i,
                 None => return PopResult::NotPopped,
             }
@@ -346,10 +346,7 @@ impl Kss {
             }
         }
         // the pop
-        let Some(m) = shapes.per[b.index()]
-            .as_mut()
-            .and_then(|ap| ap.array.pop(&mut ap.exposed, k))
-        else {
+        let Some(m) = shapes.per[b.index()].as_mut().and_then(|ap| ap.pop(k)) else {
             return PopResult::NotPopped;
         };
         let ap = shapes.approx(b).expect("popped");
@@ -567,10 +564,7 @@ impl Kss {
 
     /// Pop in `shapes` only (the structure is left for a rebuild).
     fn pop_only(&self, shapes: &mut Shapes, b: crate::world::BodyId, k: usize) -> PopResult {
-        match shapes.per[b.index()]
-            .as_mut()
-            .and_then(|ap| ap.array.pop(&mut ap.exposed, k))
-        {
+        match shapes.per[b.index()].as_mut().and_then(|ap| ap.pop(k)) {
             Some(_) => PopResult::Failed,
             None => PopResult::NotPopped,
         }

@@ -50,13 +50,7 @@ pub fn coarsest_shape(b: &Body, above: usize) -> Option<Approx> {
     (b.alive && b.shape.len() > above).then(|| {
         let array = Arc::new(EdgeArray::new(&b.shape));
         let exposed = array.coarsest();
-        let memo = super::geo::EnclosureMemo::new(exposed.len());
-        Approx {
-            array,
-            exposed,
-            memo,
-            grid_box: Default::default(),
-        }
+        Approx::new(array, exposed)
     })
 }
 
@@ -66,7 +60,7 @@ pub fn pop(shapes: &mut Shapes, a: Att) -> bool {
         return false;
     };
     match shapes.per.get_mut(b.index()).and_then(Option::as_mut) {
-        Some(ap) => ap.array.pop(&mut ap.exposed, a.v as usize).is_some(),
+        Some(ap) => ap.pop(a.v as usize).is_some(),
         None => false,
     }
 }
@@ -549,7 +543,7 @@ mod tests {
                     let a = BodyId(i as u32);
                     let ap = shapes.approx(a).unwrap();
                     ap.array
-                        .check_exposed(&world.body(a).shape, &ap.exposed)
+                        .check_exposed(&world.body(a).shape, ap.exposed())
                         .unwrap();
                     for j in i + 1..n {
                         let b = BodyId(j as u32);
