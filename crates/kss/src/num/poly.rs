@@ -140,6 +140,21 @@ impl Poly {
         Sign::of(&self.c[2])
     }
 
+    /// [`Poly::sign_before`] and [`Poly::sign_after`] of `t`, from one
+    /// evaluation at `t` (and of the derivative where that is zero).
+    pub fn signs_around(&self, t: &Time) -> [Sign; 2] {
+        let s = self.sign_at(t);
+        if s != Sign::Zero {
+            return [s, s];
+        }
+        let s1 = self.derivative().sign_at(t);
+        if s1 != Sign::Zero {
+            return [s1.neg(), s1];
+        }
+        let s2 = Sign::of(&self.c[2]);
+        [s2, s2]
+    }
+
     /// The distinct real roots, in increasing order (none for the zero
     /// polynomial or a non-zero constant).
     pub fn roots(&self) -> Vec<Time> {
@@ -389,6 +404,33 @@ mod tests {
         assert_eq!(other.sign_at(&r[0]), Sign::Negative);
         let same = p(-4, 0, 2); // 2t² − 4 vanishes at ±√2
         assert_eq!(same.sign_at(&r[0]), Sign::Zero);
+    }
+
+    #[test]
+    fn signs_around_are_the_signs_before_and_after() {
+        // roots simple and double, rational and irrational, a constant,
+        // the zero polynomial; instants at, between and beside the roots
+        let polys = [
+            p(-2, 0, 1),
+            p(1, -2, 1),
+            p(3, -1, 0),
+            p(0, 1, 0),
+            p(0, 0, -1),
+            p(5, 0, 0),
+            p(0, 0, 0),
+            p(-4, 0, 2),
+        ];
+        let mut instants: Vec<Time> = [-1.0, 0.0, 0.5, 1.0, 1.5, 3.0].into_iter().map(t).collect();
+        instants.extend(p(-2, 0, 1).roots());
+        for q in &polys {
+            for at in &instants {
+                assert_eq!(
+                    q.signs_around(at),
+                    [q.sign_before(at), q.sign_after(at)],
+                    "{q:?} at {at:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -24,24 +24,34 @@ use crate::world::{BodyId, World};
 const MEMO_MAX: usize = 1 << 10;
 
 /// One entry of an [`EnclosureMemo`]: the approximation vertex `av(i, k)`
-/// as `(k, i)` (`k = u32::MAX`: empty) and the enclosures of its position
-/// at time 0 (the velocity terms are the frame's own).
-type MemoEntry = (u32, u32, [Interval; 2]);
+/// as `(k, i)` (`k = u32::MAX`: empty), the enclosures of its body-frame
+/// coordinates ([`EdgeArray::av_enclose`]), and the uid of the frame whose
+/// world enclosures of its position at time 0 follow (the velocity terms
+/// are the frame's own).
+type MemoEntry = (u32, u32, u64, [Interval; 2], [Interval; 2]);
+
+const EMPTY_ENTRY: MemoEntry = (
+    u32::MAX,
+    0,
+    0,
+    [Interval { lo: 0.0, hi: 0.0 }; 2],
+    [Interval { lo: 0.0, hi: 0.0 }; 2],
+);
 
 /// The linear enclosures of a body's recently seen approximation vertices,
-/// direct-mapped by exposed id, for one frame (the memo's key): at an
-/// event the same few points are enclosed for many predicates. An entry
-/// names the body-frame point itself, `av(i, k)` with `i` the id before
-/// `k`, so a pop or a merge (which changes which point an exposed id names)
-/// leaves every other entry valid; a frame's uid is never reused, and a
-/// motion change (a new frame) starts the memo again. It grows with the
-/// approximation. A clone starts empty.
+/// direct-mapped by exposed id: at an event the same few points are
+/// enclosed for many predicates. An entry names the body-frame point
+/// itself, `av(i, k)` with `i` the id before `k`, so a pop or a merge
+/// (which changes which point an exposed id names) leaves every other entry
+/// valid. It keeps the point's body-frame enclosure, which no motion
+/// changes, and its world enclosure in one frame (a frame's uid is never
+/// reused): after a motion change the world enclosure is the new frame's
+/// map of the body-frame one, a product and a sum per coordinate, without
+/// the intersection of two lines again. It grows with the approximation. A
+/// clone starts empty.
 pub struct EnclosureMemo {
-    uid: std::cell::Cell<u64>,
     slots: std::cell::RefCell<Vec<MemoEntry>>,
 }
-
-const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
 
 impl EnclosureMemo {
     /// An empty memo sized for an approximation of `n` vertices (`2n`
@@ -50,7 +60,6 @@ impl EnclosureMemo {
     /// swarm missed on slots that two exposed ids share).
     pub fn new(n: usize) -> EnclosureMemo {
         EnclosureMemo {
-            uid: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; Self::size(n)]),
         }
     }
@@ -66,35 +75,47 @@ impl EnclosureMemo {
         (k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize
     }
 
-    fn get(&self, uid: u64, (k, i): (u32, u32)) -> Option<[Interval; 2]> {
-        if self.uid.get() != uid {
+    /// The world enclosures `[x0, y0]` of `av(i, k)` in `frame`, if the
+    /// memo holds the point.
+    fn get(&self, frame: &Frame, (k, i): (u32, u32)) -> Option<[Interval; 2]> {
+        let mut slots = self.slots.borrow_mut();
+        let at = Self::slot(slots.len(), k);
+        let e = &mut slots[at];
+        if e.0 != k || e.1 != i {
             return None;
         }
-        let slots = self.slots.borrow();
-        let e = slots[Self::slot(slots.len(), k)];
-        (e.0 == k && e.1 == i).then_some(e.2)
+        let uid = frame.uid();
+        if e.2 != uid {
+            let [x0, _, y0, _] = frame.linear_enclosure(e.4[0], e.4[1]);
+            (e.2, e.3) = (uid, [x0, y0]);
+        }
+        Some(e.3)
     }
 
-    /// Keep `e` for `av(i, k)` of the frame `uid`, the approximation having
-    /// `n` vertices.
-    fn put(&self, uid: u64, (k, i): (u32, u32), n: usize, e: [Interval; 2]) {
+    /// Keep `av(i, k)`, with body-frame enclosures `body` and world
+    /// enclosures `world` in the frame `uid`, the approximation having `n`
+    /// vertices.
+    fn put(
+        &self,
+        (uid, (k, i)): (u64, (u32, u32)),
+        n: usize,
+        world: [Interval; 2],
+        body: [Interval; 2],
+    ) {
         let mut slots = self.slots.borrow_mut();
         let want = Self::size(n);
-        if self.uid.get() != uid || want > slots.len() {
-            let len = want.max(slots.len());
+        if want > slots.len() {
             slots.clear();
-            slots.resize(len, EMPTY_ENTRY);
-            self.uid.set(uid);
+            slots.resize(want, EMPTY_ENTRY);
         }
         let at = Self::slot(slots.len(), k);
-        slots[at] = (k, i, e);
+        slots[at] = (k, i, uid, world, body);
     }
 }
 
 impl Clone for EnclosureMemo {
     fn clone(&self) -> EnclosureMemo {
         EnclosureMemo {
-            uid: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; self.slots.borrow().len()]),
         }
     }
@@ -945,13 +966,24 @@ impl<'a> Geo<'a> {
         }
         let i = ap.exposed.pred(k)?;
         let ki = (a.v, i as u32);
-        if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki) {
+        if let Some([x0, y0]) = ap.memo.get(frame, ki) {
             let [x1, y1] = frame.velocity_enclosure();
             return Some([x0, x1, y0, y1]);
         }
-        let (b, at) = self.linear_key(a)?;
-        let e = self.linear_fresh(b, at)?;
-        ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
+        if let Some(v) = ap.array.av_is_real(i, k) {
+            // a real vertex: from its input doubles, no memo
+            let v = self.world.body(b).shape.f64_vertices()[v];
+            return Some(frame.linear_enclosure_of_vertex(v));
+        }
+        let [x, y] = ap.array.av_enclose(i, k)?;
+        let e = frame.linear_enclosure(x, y);
+        debug_assert_eq!(
+            Some(e),
+            self.linear_key(a)
+                .and_then(|(b, at)| self.linear_fresh(b, at))
+        );
+        ap.memo
+            .put((frame.uid(), ki), ap.exposed.len(), [e[0], e[2]], [x, y]);
         Some(e)
     }
 
@@ -1288,6 +1320,79 @@ impl<'a> Geo<'a> {
                     .vertex_of(&body.shape, &ap.exposed, a.v as usize)
                     .expect("an exposed id with an approximation vertex");
                 Some(body.traj.position_at(t).add(&h.to_point(body.shape.exp())))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `Approx::cw`, `Approx::cw_distance` and the visible set agree with
+    /// walks of `Approx::prev_visible` over the exposed set, for every id,
+    /// as pops and merges change the approximation of a 37-gon (whose edge
+    /// array repeats edges: ids that become hidden).
+    #[test]
+    fn walks_round_an_approximation_are_ranks_in_its_visible_set() {
+        let pts = crate::gen::regular_polygon(37, 100.0, 0.1);
+        let body = crate::geom::BodyPolygon::new(&pts).expect("a convex polygon");
+        let array = Arc::new(EdgeArray::new(&body));
+        let exposed = array.coarsest();
+        let mut ap = Approx::new(array, exposed);
+        let check = |ap: &Approx| {
+            let walked: Vec<usize> = ap.exposed().iter().filter(|&k| !ap.hidden(k)).collect();
+            assert_eq!(ap.visible().iter().collect::<Vec<_>>(), walked);
+            let m = ap.exposed().universe();
+            for from in (0..m).filter(|&k| ap.exposed().contains(k)) {
+                let mut x = from;
+                for k in 0..(2 * walked.len() as u32 + 3) {
+                    assert_eq!(ap.cw(from, k), x, "{k} steps from {from}");
+                    x = ap.prev_visible(x);
+                }
+                for &to in &walked {
+                    // the walk's own count, up to one full round
+                    let mut y = from;
+                    let mut d = 0u32;
+                    let expect = loop {
+                        if y == to {
+                            break Some(d);
+                        }
+                        y = ap.prev_visible(y);
+                        d += 1;
+                        if y == from || d > walked.len() as u32 + 1 {
+                            break None;
+                        }
+                    };
+                    assert_eq!(ap.cw_distance(from, to, u32::MAX), expect);
+                    if let Some(d) = expect.filter(|&d| d > 0) {
+                        assert_eq!(ap.cw_distance(from, to, d - 1), None);
+                    }
+                }
+            }
+        };
+        check(&ap);
+        // pop the first vertex that pops, again and again, then merge back
+        let mut popped = Vec::new();
+        let mut hidden = 0;
+        for _ in 0..200 {
+            let ks: Vec<usize> = ap.exposed().iter().collect();
+            let Some(t) = ks.iter().find_map(|&k| ap.pop(k)) else {
+                break;
+            };
+            popped.push(t);
+            check(&ap);
+            hidden = hidden.max(ap.exposed().len() - ap.visible().len());
+        }
+        assert!(popped.len() > 10, "only {} pops", popped.len());
+        assert!(hidden > 0, "no id was hidden");
+        for &t in popped.iter().rev() {
+            if ap.merge(t) {
+                check(&ap);
+                ap.unmerge(t);
+                check(&ap);
+                assert!(ap.merge(t));
+                check(&ap);
             }
         }
     }

@@ -148,10 +148,20 @@ fn turn_on_exact(world: &Geo, [u, v, w]: [Att; 3], t: &Time, side: Side) -> Sign
     let after = side == Side::After;
     world.memo_turn([u, v, w], t, after, || {
         let p = crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w));
+        // (both sides from one evaluation: a junction zero at the instant
+        // is asked on both sides, a pop reading just before it and the
+        // normalization after it; the memo keeps the other side)
+        let [before, just_after] = p.signs_around(t);
+        world.memo_record(
+            [u, v, w],
+            t,
+            !after,
+            if after { before } else { just_after },
+        );
         if after {
-            p.sign_after(t)
+            just_after
         } else {
-            p.sign_before(t)
+            before
         }
     })
 }
@@ -1229,7 +1239,7 @@ impl Kss {
     /// holds: the at most seven points are compared first
     /// ([`super::faces::coincide_at`]), and only a pair that coincides is
     /// placed on the chains
-    /// ([`Geo::cw_distance`], `O(len)` with approximations).
+    /// ([`Geo::cw_distance`], a rank in each approximation's visible set).
     fn touching_bridges(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<(u32, u32)> {
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);

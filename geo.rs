@@ -1,0 +1,1014 @@
+//! How the structure sees the bodies: through vertex ids, neighbours along
+//! the boundary and moving positions, never through the polygons directly.
+//!
+//! For the plain structure a body is seen as its real polygon (ids `0..n`,
+//! steps modulo `n`). For the hierarchical structure (issue 4) a body is
+//! seen as its current outer approximation: the ids are the exposed indices
+//! of its replicated edge array, and vertex `k` is the approximation vertex
+//! `av(pred_S(k), k)` (see [`crate::hier`]); an id whose edge has length
+//! zero (three exposed lines through one real vertex) is hidden, its vertex
+//! being the next one's. Everything in `structure/`
+//! reads geometry through a [`Geo`], so the same operations serve both.
+
+use std::sync::Arc;
+
+use super::memo::PointKey;
+use super::{Att, Obj};
+use crate::geom::{MidRad, Point};
+use crate::hier::{EdgeArray, Exposed};
+use crate::motion::{Frame, LinearPoint};
+use crate::num::{Interval, Rational, Sign, Time};
+use crate::world::{BodyId, World};
+
+/// The most entries an [`EnclosureMemo`] has (a power of two).
+const MEMO_MAX: usize = 1 << 10;
+
+/// One entry of an [`EnclosureMemo`]: the approximation vertex `av(i, k)`
+/// as `(k, i)` (`k = u32::MAX`: empty) and the enclosures of its position
+/// at time 0 (the velocity terms are the frame's own).
+type MemoEntry = (u32, u32, [Interval; 2]);
+
+/// The linear enclosures of a body's recently seen approximation vertices,
+/// direct-mapped by exposed id, for one frame (the memo's key): at an
+/// event the same few points are enclosed for many predicates. An entry
+/// names the body-frame point itself, `av(i, k)` with `i` the id before
+/// `k`, so a pop or a merge (which changes which point an exposed id names)
+/// leaves every other entry valid; a frame's uid is never reused, and a
+/// motion change (a new frame) starts the memo again. It grows with the
+/// approximation. A clone starts empty.
+pub struct EnclosureMemo {
+    uid: std::cell::Cell<u64>,
+    slots: std::cell::RefCell<Vec<MemoEntry>>,
+}
+
+const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
+
+impl EnclosureMemo {
+    /// An empty memo sized for an approximation of `n` vertices (`n`
+    /// rounded up to a power of two, at least 8 and at most 1024 entries).
+    pub fn new(n: usize) -> EnclosureMemo {
+        EnclosureMemo {
+            uid: std::cell::Cell::new(0),
+            slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; Self::size(n)]),
+        }
+    }
+
+    fn size(n: usize) -> usize {
+        n.next_power_of_two().clamp(8, MEMO_MAX)
+    }
+
+    /// The slot of exposed id `k` among `len` (a multiplicative hash: the
+    /// ids of a coarse approximation are multiples of a power of two).
+    fn slot(len: usize, k: u32) -> usize {
+        let bits = len.trailing_zeros();
+        (k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize
+    }
+
+    fn get(&self, uid: u64, (k, i): (u32, u32)) -> Option<[Interval; 2]> {
+        if self.uid.get() != uid {
+            return None;
+        }
+        let slots = self.slots.borrow();
+        let e = slots[Self::slot(slots.len(), k)];
+        (e.0 == k && e.1 == i).then_some(e.2)
+    }
+
+    /// Keep `e` for `av(i, k)` of the frame `uid`, the approximation having
+    /// `n` vertices.
+    fn put(&self, uid: u64, (k, i): (u32, u32), n: usize, e: [Interval; 2]) {
+        let mut slots = self.slots.borrow_mut();
+        let want = Self::size(n);
+        if self.uid.get() != uid || want > slots.len() {
+            let len = want.max(slots.len());
+            slots.clear();
+            slots.resize(len, EMPTY_ENTRY);
+            self.uid.set(uid);
+        }
+        let at = Self::slot(slots.len(), k);
+        slots[at] = (k, i, e);
+    }
+}
+
+impl Clone for EnclosureMemo {
+    fn clone(&self) -> EnclosureMemo {
+        EnclosureMemo {
+            uid: std::cell::Cell::new(0),
+            slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; self.slots.borrow().len()]),
+        }
+    }
+}
+
+impl std::fmt::Debug for EnclosureMemo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "EnclosureMemo({} slots)", self.slots.borrow().len())
+    }
+}
+
+/// A vertex as the structure sees it, held compactly to compute its moving
+/// position later (a deferred failure time keeps its three points this
+/// way): its body's frame, and its real vertex or the approximation vertex
+/// `av(i, k)` of the body's static edge array, all shared, nothing copied.
+#[derive(Clone, Debug)]
+pub struct PointRef {
+    frame: Arc<Frame>,
+    src: PointSrc,
+}
+
+#[derive(Clone, Debug)]
+enum PointSrc {
+    Real(Arc<crate::geom::BodyPolygon>, u32),
+    Approx(Arc<EdgeArray>, u32, u32),
+}
+
+impl PointRef {
+    /// The moving world position for the frame it was taken with.
+    pub fn linear(&self) -> LinearPoint {
+        match &self.src {
+            PointSrc::Real(shape, v) => self.frame.vertex(shape, *v as usize),
+            PointSrc::Approx(array, i, k) => {
+                let h = array
+                    .av(*i as usize, *k as usize)
+                    .expect("an approximation vertex of the array");
+                self.frame.homogeneous(&h.x, &h.y, &h.w)
+            }
+        }
+    }
+}
+
+/// A body seen through its outer approximation.
+#[derive(Clone, Debug)]
+pub struct Approx {
+    /// The body's replicated edge array.
+    pub array: Arc<EdgeArray>,
+    /// The exposed indices: the current approximation.
+    pub exposed: Exposed,
+    /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
+    pub memo: EnclosureMemo,
+}
+
+/// The slot of a direct-mapped table of `len` entries (a power of two)
+/// for the hash of `h` (a multiplicative hash: its top bits).
+fn slot(h: u64, len: usize) -> usize {
+    (h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - len.trailing_zeros())) as usize
+}
+
+/// The direct-mapped table of a view's cache whose entries are small
+/// values: each entry holds its own key, so a slot that another key took
+/// only misses. A clone starts empty.
+pub struct Cells<T: Copy> {
+    cells: Box<[std::cell::Cell<T>]>,
+    empty: T,
+}
+
+impl<T: Copy> Cells<T> {
+    /// `len` (a power of two) entries, each `empty`.
+    fn new(len: usize, empty: T) -> Cells<T> {
+        Cells {
+            cells: (0..len).map(|_| std::cell::Cell::new(empty)).collect(),
+            empty,
+        }
+    }
+
+    /// The entry for hash `h`.
+    #[inline]
+    fn at(&self, h: u64) -> &std::cell::Cell<T> {
+        &self.cells[slot(h, self.cells.len())]
+    }
+}
+
+impl<T: Copy> Clone for Cells<T> {
+    fn clone(&self) -> Cells<T> {
+        Cells::new(self.cells.len(), self.empty)
+    }
+}
+
+impl<T: Copy> std::fmt::Debug for Cells<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Cells({} entries)", self.cells.len())
+    }
+}
+
+/// One entry of a [`LinkMemo`]: the exposed set's version, the body and id
+/// (`body << 32 | id`), and the neighbour.
+type LinkEntry = (u64, u64, u32);
+
+/// Recent visible neighbours of exposed ids ([`Approx::prev_visible`],
+/// [`Approx::next_visible`]), direct-mapped, for each direction: an entry
+/// holds the body, the id and the exposed set's version, and answers for
+/// that set only ([`Exposed::version`] is never reused, so a pop or a
+/// merge leaves every entry of the body unused). One per [`Shapes`].
+#[derive(Clone, Debug)]
+pub struct LinkMemo {
+    prev: Cells<LinkEntry>,
+    next: Cells<LinkEntry>,
+}
+
+impl Default for LinkMemo {
+    fn default() -> LinkMemo {
+        LinkMemo {
+            prev: Cells::new(256, (0, 0, 0)),
+            next: Cells::new(256, (0, 0, 0)),
+        }
+    }
+}
+
+impl LinkMemo {
+    /// The neighbour of id `k` of body `b` seen through `ap`, kept in
+    /// `cells`, or computed by `walk` and kept.
+    #[inline]
+    fn answer(
+        cells: &Cells<LinkEntry>,
+        (b, ap): (BodyId, &Approx),
+        k: usize,
+        walk: impl FnOnce(&Approx) -> usize,
+    ) -> usize {
+        let version = ap.exposed.version();
+        let id = Att::vertex(b, k as u32).word();
+        let cell = cells.at(id ^ version.rotate_left(32));
+        let (v, key, n) = cell.get();
+        if v == version && key == id {
+            debug_assert_eq!(
+                n as usize,
+                walk(ap),
+                "the link memo answers for another set"
+            );
+            return n as usize;
+        }
+        let n = walk(ap);
+        cell.set((version, id, n as u32));
+        n
+    }
+
+    /// [`Approx::prev_visible`] of body `b`'s approximation `ap`.
+    pub fn prev_visible(&self, b: BodyId, ap: &Approx, k: usize) -> usize {
+        Self::answer(&self.prev, (b, ap), k, |ap| ap.prev_visible(k))
+    }
+
+    /// [`Approx::next_visible`] of body `b`'s approximation `ap`.
+    pub fn next_visible(&self, b: BodyId, ap: &Approx, k: usize) -> usize {
+        Self::answer(&self.next, (b, ap), k, |ap| ap.next_visible(k))
+    }
+}
+
+/// The number of entries of a [`FacesCache`], a power of two.
+const FACES: usize = 256;
+
+/// The words a [`FacesCache`] entry is keyed by.
+pub(crate) type FacesKey = [u64; 15];
+
+/// One entry of a [`FacesCache`].
+type FacesEntry = Option<(FacesKey, Time, bool, Option<super::local::Certs>)>;
+
+/// Recent answers of [`super::Kss::faces_valid_on`], direct-mapped: a
+/// corridor's validity is a function of its two bodies' views (frame uid
+/// and exposed version), its ends, chain lengths and middle bridge, the
+/// side and the instant, which an entry holds in full: the key's words,
+/// and the instant itself, which must be known to be the same
+/// (`Time::is_known_same`: the same exact value or the same deferred
+/// root, never forced), since two instants can share an enclosure. One
+/// per [`Shapes`]; a clone starts empty.
+///
+/// An answer read on one side of an instant is also kept for the other
+/// side when no sign it read depended on the side: every turn and every
+/// dot product was decided by the f64 filters on an enclosure of the
+/// instant itself, so it is the sign at the instant and on both sides of
+/// it ([`FacesCache::exact_reads`] counts the others). A pop checks its
+/// corridors just before the instant and normalizes them just after it.
+pub struct FacesCache(std::cell::RefCell<Vec<FacesEntry>>, std::cell::Cell<u64>);
+
+impl Default for FacesCache {
+    fn default() -> FacesCache {
+        FacesCache(
+            std::cell::RefCell::new(vec![None; FACES]),
+            std::cell::Cell::new(0),
+        )
+    }
+}
+
+impl Clone for FacesCache {
+    fn clone(&self) -> FacesCache {
+        FacesCache::default()
+    }
+}
+
+impl std::fmt::Debug for FacesCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "FacesCache({} entries)", FACES)
+    }
+}
+
+impl FacesCache {
+    fn slot(key: &FacesKey) -> usize {
+        let h = key
+            .iter()
+            .fold(0u64, |h, &w| (h ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        slot(h, FACES)
+    }
+
+    /// The answer kept for `key` at instant `t`, if any.
+    pub(crate) fn get(&self, key: &FacesKey, t: &Time) -> Option<bool> {
+        match &self.0.borrow()[Self::slot(key)] {
+            Some((k, at, v, _)) if k == key && at.is_known_same(t) => Some(*v),
+            _ => None,
+        }
+    }
+
+    /// The junction certificates kept with a valid answer for `key` at
+    /// instant `t` ([`super::Kss::corridor_certs`]), if any.
+    pub(crate) fn certs(&self, key: &FacesKey, t: &Time) -> Option<super::local::Certs> {
+        match &self.0.borrow()[Self::slot(key)] {
+            Some((k, at, true, Some(certs))) if k == key && at.is_known_same(t) => {
+                Some(certs.clone())
+            }
+            _ => None,
+        }
+    }
+
+    /// Keep answer `v` for `key` at instant `t`, with the junction
+    /// certificates read off the faces where the answer is `true`.
+    pub(crate) fn put(&self, key: FacesKey, t: &Time, v: bool, certs: Option<super::local::Certs>) {
+        self.0.borrow_mut()[Self::slot(&key)] = Some((key, t.clone(), v, certs));
+    }
+
+    /// How many signs were read on one side of an instant past the f64
+    /// filters so far ([`super::local::turn_on`] and
+    /// [`super::local::between_on`]): a validity computed while this
+    /// count stays the same read only signs at the instant itself.
+    pub(crate) fn exact_reads(&self) -> u64 {
+        self.1.get()
+    }
+
+    /// Count one sign read past the filters ([`FacesCache::exact_reads`]).
+    pub(crate) fn note_exact_read(&self) {
+        self.1.set(self.1.get().wrapping_add(1));
+    }
+}
+
+/// The number of entries of a [`PointCache`], a power of two.
+const POINTS: usize = 64;
+
+/// One entry of a [`PointCache`]: the key `[body << 32 | id, frame uid,
+/// exposed version]` and the exact moving position.
+type PointEntry = Option<([u64; 3], LinearPoint)>;
+
+/// The exact moving positions of recently used approximation vertices
+/// ([`Geo::point`]): the exact predicates of an event ask for the same
+/// few points, and each is a homogeneous intersection of two lines of the
+/// edge array carried by the frame. Direct-mapped; keyed by everything the
+/// point depends on (the body and id, the frame's [`Frame::uid`] and the
+/// approximation's [`Exposed::version`], both never reused); debug builds
+/// check every hit. One per [`Shapes`]; a clone starts empty.
+pub struct PointCache(std::cell::RefCell<Vec<PointEntry>>);
+
+impl Default for PointCache {
+    fn default() -> PointCache {
+        PointCache(std::cell::RefCell::new(vec![None; POINTS]))
+    }
+}
+
+impl Clone for PointCache {
+    fn clone(&self) -> PointCache {
+        PointCache::default()
+    }
+}
+
+impl std::fmt::Debug for PointCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "PointCache({POINTS} entries)")
+    }
+}
+
+impl PointCache {
+    fn slot(key: &[u64; 3]) -> usize {
+        slot(
+            key[0] ^ key[1].rotate_left(20) ^ key[2].rotate_left(40),
+            POINTS,
+        )
+    }
+
+    fn get(&self, key: &[u64; 3]) -> Option<LinearPoint> {
+        match &self.0.borrow()[Self::slot(key)] {
+            Some((k, p)) if k == key => Some(p.clone()),
+            _ => None,
+        }
+    }
+
+    fn put(&self, key: [u64; 3], p: &LinearPoint) {
+        self.0.borrow_mut()[Self::slot(&key)] = Some((key, p.clone()));
+    }
+}
+
+/// How each body is seen: the real polygon, or an approximation.
+#[derive(Clone, Debug, Default)]
+pub struct Shapes {
+    /// Per body (by index); missing or `None`: the real polygon.
+    pub per: Vec<Option<Approx>>,
+    /// Recently placed points ([`Geo::mid_rad`]).
+    pub mids: MidCache,
+    /// Recent corridor validity answers ([`super::Kss::faces_valid_on`]).
+    pub faces: FacesCache,
+    /// Recent exact positions of approximation vertices ([`Geo::point`]).
+    pub points: PointCache,
+    /// Recent visible neighbours of approximation ids.
+    pub links: LinkMemo,
+}
+
+/// One entry of a [`MidCache`]: the key `[body << 32 | id, frame uid,
+/// exposed version (0: the real polygon), t.lo bits, t.hi bits]` and the
+/// midpoint–radius form of the point's position at a time in `t`.
+type MidEntry = ([u64; 5], Option<MidRad>);
+
+/// The point cache of [`Geo::mid_rad`], direct-mapped (one per
+/// [`Shapes`]).
+#[derive(Clone, Debug)]
+pub struct MidCache(Cells<MidEntry>);
+
+impl Default for MidCache {
+    fn default() -> MidCache {
+        MidCache(Cells::new(256, ([0; 5], None)))
+    }
+}
+
+thread_local! {
+    /// Every body seen as its real polygon: the empty [`Shapes`] (one per
+    /// thread: a memo's cells are not shared between threads).
+    static REAL: &'static Shapes = Box::leak(Box::default());
+}
+
+impl Approx {
+    /// Whether exposed id `k` is hidden: its edge has length zero (three
+    /// exposed lines through one real vertex), so its vertex coincides with
+    /// the next one, which stands for both.
+    pub fn hidden(&self, k: usize) -> bool {
+        let (Some(i), Some(j)) = (self.exposed.pred(k), self.exposed.succ(k)) else {
+            return false;
+        };
+        match (self.array.av_is_real(i, k), self.array.av_is_real(k, j)) {
+            (Some(u), Some(v)) => u == v,
+            _ => false,
+        }
+    }
+
+    /// The visible id after `k` (counter-clockwise).
+    pub fn next_visible(&self, k: usize) -> usize {
+        let mut x = self.exposed.succ(k).expect("a non-empty set");
+        while self.hidden(x) && x != k {
+            x = self.exposed.succ(x).expect("a non-empty set");
+        }
+        x
+    }
+
+    /// The visible id before `k` (clockwise).
+    pub fn prev_visible(&self, k: usize) -> usize {
+        let mut x = self.exposed.pred(k).expect("a non-empty set");
+        while self.hidden(x) && x != k {
+            x = self.exposed.pred(x).expect("a non-empty set");
+        }
+        x
+    }
+}
+
+impl Shapes {
+    /// Every body seen as its real polygon (the plain structure).
+    pub fn real() -> &'static Shapes {
+        REAL.with(|r| *r)
+    }
+
+    /// The approximation of body `b`, if it is seen through one.
+    pub fn approx(&self, b: BodyId) -> Option<&Approx> {
+        self.per.get(b.index()).and_then(Option::as_ref)
+    }
+}
+
+/// The world together with how the structure sees each body. Dereferences
+/// to the [`World`] for everything else (motions, liveness, ids).
+#[derive(Clone, Copy, Debug)]
+pub struct Geo<'a> {
+    /// The bodies and their motions.
+    pub world: &'a World,
+    /// How each body is seen.
+    pub shapes: &'a Shapes,
+}
+
+impl std::ops::Deref for Geo<'_> {
+    type Target = World;
+    fn deref(&self) -> &World {
+        self.world
+    }
+}
+
+impl<'a> Geo<'a> {
+    /// Every body seen as its real polygon.
+    pub fn plain(world: &'a World) -> Geo<'a> {
+        Geo {
+            world,
+            shapes: Shapes::real(),
+        }
+    }
+
+    /// The number of vertices body `b` is seen with.
+    pub fn count(&self, b: BodyId) -> u32 {
+        match self.shapes.approx(b) {
+            None => self.world.body(b).shape.len() as u32,
+            Some(a) => a.exposed.iter().filter(|&k| !a.hidden(k)).count() as u32,
+        }
+    }
+
+    /// One more than the largest vertex id body `b` can have.
+    pub fn id_bound(&self, b: BodyId) -> usize {
+        match self.shapes.approx(b) {
+            None => self.world.body(b).shape.len(),
+            Some(a) => a.array.m(),
+        }
+    }
+
+    /// The vertex ids of body `b`, counter-clockwise.
+    pub fn ids(&self, b: BodyId) -> Vec<u32> {
+        match self.shapes.approx(b) {
+            None => (0..self.world.body(b).shape.len() as u32).collect(),
+            Some(a) => a
+                .exposed
+                .iter()
+                .filter(|&k| !a.hidden(k))
+                .map(|k| k as u32)
+                .collect(),
+        }
+    }
+
+    /// The vertex `k` steps clockwise from `a` (`ω` stays `ω`).
+    pub fn cw(&self, a: Att, k: u32) -> Att {
+        let Obj::Body(b) = a.obj else {
+            return a;
+        };
+        let v = match self.shapes.approx(b) {
+            None => {
+                let n = self.world.body(b).shape.len() as u32;
+                (a.v + n - (k % n)) % n
+            }
+            Some(ap) => {
+                // walking `k` steps round the cycle is walking `k mod n`
+                // (no O(|S|) count of the visible ids first)
+                let mut x = a.v as usize;
+                for _ in 0..k {
+                    x = self.shapes.links.prev_visible(b, ap, x);
+                }
+                x as u32
+            }
+        };
+        Att { obj: a.obj, v }
+    }
+
+    /// The number of clockwise steps from `from` to `to` on one body (less
+    /// than the body's vertex count; `None` if `to` is not met within
+    /// `limit` steps).
+    pub fn cw_distance(&self, from: Att, to: Att, limit: u32) -> Option<u32> {
+        let (Obj::Body(b), Obj::Body(c)) = (from.obj, to.obj) else {
+            return None;
+        };
+        if b != c {
+            return None;
+        }
+        match self.shapes.approx(b) {
+            None => {
+                let n = self.world.body(b).shape.len() as u32;
+                let d = (from.v + n - to.v) % n;
+                (d <= limit).then_some(d)
+            }
+            Some(ap) => {
+                let mut x = from.v as usize;
+                for d in 0..=limit {
+                    if x == to.v as usize {
+                        return Some(d);
+                    }
+                    x = self.shapes.links.prev_visible(b, ap, x);
+                    if x == from.v as usize {
+                        return None;
+                    }
+                }
+                None
+            }
+        }
+    }
+
+    /// The counter-clockwise neighbour of `a` (`ω` stays `ω`).
+    pub fn ccw(&self, a: Att) -> Att {
+        let Obj::Body(b) = a.obj else {
+            return a;
+        };
+        let v = match self.shapes.approx(b) {
+            None => (a.v + 1) % self.world.body(b).shape.len() as u32,
+            Some(ap) => self.shapes.links.next_visible(b, ap, a.v as usize) as u32,
+        };
+        Att { obj: a.obj, v }
+    }
+
+    /// Whether `a` is a real polygon vertex (always, unless its body is seen
+    /// through an approximation and `a` is an approximation vertex).
+    pub fn is_real(&self, a: Att) -> bool {
+        let Obj::Body(b) = a.obj else {
+            return true;
+        };
+        match self.shapes.approx(b) {
+            None => true,
+            Some(ap) => ap
+                .exposed
+                .pred(a.v as usize)
+                .is_some_and(|i| ap.array.av_is_real(i, a.v as usize).is_some()),
+        }
+    }
+
+    /// The moving position of vertex `a` (a finite point).
+    pub fn point(&self, a: Att) -> LinearPoint {
+        let Obj::Body(b) = a.obj else {
+            unreachable!("a finite point was expected")
+        };
+        let body = self.world.body(b);
+        match self.shapes.approx(b) {
+            None => body.vertex(a.v as usize),
+            Some(ap) => {
+                let key = [a.word(), body.frame.uid(), ap.exposed.version()];
+                if let Some(p) = self.shapes.points.get(&key) {
+                    debug_assert_eq!(
+                        p,
+                        ap.array
+                            .vertex_of(&body.shape, &ap.exposed, a.v as usize)
+                            .expect("an exposed id with an approximation vertex")
+                            .moving(&body.frame),
+                        "the point cache answers for another point: {a:?}"
+                    );
+                    return p;
+                }
+                let h = ap
+                    .array
+                    .vertex_of(&body.shape, &ap.exposed, a.v as usize)
+                    .expect("an exposed id with an approximation vertex");
+                let p = h.moving(&body.frame);
+                self.shapes.points.put(key, &p);
+                p
+            }
+        }
+    }
+
+    /// What vertex `a` is, for [`super::memo`]: its body's frame and its
+    /// body-frame point (`None` for `ω`).
+    pub(crate) fn point_key(&self, a: Att) -> Option<(PointKey, &'a Arc<Frame>)> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let body = self.world.body(b);
+        let key = match self.shapes.approx(b) {
+            None => PointKey::real(&body.frame, a.v as usize),
+            Some(ap) => {
+                let k = a.v as usize;
+                let i = ap.exposed.pred(k)?;
+                match ap.array.av_is_real(i, k) {
+                    Some(v) => PointKey::real(&body.frame, v),
+                    None => PointKey::approx(&body.frame, i, k),
+                }
+            }
+        };
+        Some((key, &body.frame))
+    }
+
+    /// The sign of `orient(u, v, w)` just after (`after`) or before `t`,
+    /// exactly, through the instant's memo of exact turns
+    /// ([`super::memo`]); `compute` is the exact evaluation.
+    pub(crate) fn memo_turn(
+        &self,
+        [u, v, w]: [Att; 3],
+        t: &Time,
+        after: bool,
+        compute: impl FnOnce() -> Sign,
+    ) -> Sign {
+        match (self.point_key(u), self.point_key(v), self.point_key(w)) {
+            (Some((ku, fu)), Some((kv, fv)), Some((kw, fw))) => {
+                super::memo::turn([ku, kv, kw], [fu, fv, fw], t, after, compute)
+            }
+            _ => {
+                super::counters::bump(super::counters::Counter::TurnsExact);
+                compute()
+            }
+        }
+    }
+
+    /// The sign of `orient(u, v, w)` just after (`after`) or before `t`, if
+    /// the instant's memo knows it ([`super::memo`]).
+    pub(crate) fn memo_peek(&self, [u, v, w]: [Att; 3], t: &Time, after: bool) -> Option<Sign> {
+        let keys = [
+            self.point_key(u)?.0,
+            self.point_key(v)?.0,
+            self.point_key(w)?.0,
+        ];
+        super::memo::peek(keys, t, after)
+    }
+
+    /// Tell the instant's memo that `orient(u, v, w)` has sign `s` just
+    /// after (`after`) or before `t` (computed exactly).
+    pub(crate) fn memo_record(&self, [u, v, w]: [Att; 3], t: &Time, after: bool, s: Sign) {
+        if let (Some((ku, fu)), Some((kv, fv)), Some((kw, fw))) =
+            (self.point_key(u), self.point_key(v), self.point_key(w))
+        {
+            super::memo::record([ku, kv, kw], [fu, fv, fw], t, after, s);
+        }
+    }
+
+    /// Vertex `a` as a [`PointRef`] (`None` for `ω` or an id that is not
+    /// exposed): [`PointRef::linear`] is [`Geo::point`]`(a)` for the motion
+    /// of now.
+    pub fn point_ref(&self, a: Att) -> Option<PointRef> {
+        let (b, (i, k)) = self.linear_key(a)?;
+        let body = self.world.body(b);
+        let src = if i == u32::MAX {
+            PointSrc::Real(body.shape.clone(), k)
+        } else {
+            PointSrc::Approx(self.shapes.approx(b)?.array.clone(), i, k)
+        };
+        Some(PointRef {
+            frame: body.frame.clone(),
+            src,
+        })
+    }
+
+    /// Enclosures `[x0, x1, y0, y1]` of `a`'s moving position `(x0 + x1·t,
+    /// y0 + y1·t)` (see [`crate::motion::Frame::linear_enclosure`]; `None`
+    /// for `ω`).
+    pub fn enclose_linear(&self, a: Att) -> Option<[Interval; 4]> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let Some(ap) = self.shapes.approx(b) else {
+            // a real vertex: its input doubles and one sum per coordinate,
+            // cheaper than a memo
+            let body = self.world.body(b);
+            let v = body.shape.f64_vertices()[a.v as usize];
+            return Some(body.frame.linear_enclosure_of_vertex(v));
+        };
+        let frame = &self.world.body(b).frame;
+        let k = a.v as usize;
+        if !ap.exposed.contains(k) {
+            return None;
+        }
+        let i = ap.exposed.pred(k)?;
+        let ki = (a.v, i as u32);
+        if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki) {
+            let [x1, y1] = frame.velocity_enclosure();
+            return Some([x0, x1, y0, y1]);
+        }
+        let (b, at) = self.linear_key(a)?;
+        let e = self.linear_fresh(b, at)?;
+        ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
+        Some(e)
+    }
+
+    /// What point `a` is: its body's [`Frame::uid`] and its body-frame
+    /// point (`(u32::MAX, v)` for real vertex `v`, `(i, k)` for the
+    /// approximation vertex `av(i, k)`); `None` for `ω` or an id that is
+    /// not exposed. Two equal ids are the same moving point.
+    pub fn point_id(&self, a: Att) -> Option<(u64, (u32, u32))> {
+        let (b, key) = self.linear_key(a)?;
+        Some((self.world.body(b).frame.uid(), key))
+    }
+
+    /// The body of `a` and which body-frame point it is: `(u32::MAX, v)`
+    /// for real vertex `v`, `(i, k)` for
+    /// the approximation vertex `av(i, k)` (`None` for `ω` or an id that is
+    /// not exposed).
+    fn linear_key(&self, a: Att) -> Option<(BodyId, (u32, u32))> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let key = match self.shapes.approx(b) {
+            None => (u32::MAX, a.v),
+            Some(ap) => {
+                let k = a.v as usize;
+                if !ap.exposed.contains(k) {
+                    return None;
+                }
+                let i = ap.exposed.pred(k)?;
+                match ap.array.av_is_real(i, k) {
+                    Some(v) => (u32::MAX, v as u32),
+                    None => (i as u32, a.v),
+                }
+            }
+        };
+        Some((b, key))
+    }
+
+    /// [`Geo::enclose_linear`] of the point `key` of body `b`, computed
+    /// afresh (not from the memo).
+    fn linear_fresh(&self, b: BodyId, key: (u32, u32)) -> Option<[Interval; 4]> {
+        let body = self.world.body(b);
+        if key.0 == u32::MAX {
+            let v = body.shape.f64_vertices()[key.1 as usize];
+            return Some(body.frame.linear_enclosure_of_vertex(v));
+        }
+        let ap = self.shapes.approx(b)?;
+        let [x, y] = ap.array.av_enclose(key.0 as usize, key.1 as usize)?;
+        Some(body.frame.linear_enclosure(x, y))
+    }
+
+    /// [`Geo::enclose_linear`] in midpoint–radius form (the input of the
+    /// certificate filters): a vertex of a polygon that is not approximated
+    /// straight from its input doubles and its frame
+    /// ([`Frame::linear_mr_of_vertex`]), an approximation vertex from its
+    /// cached enclosures. `None` for `ω` or where a value is not finite.
+    #[inline]
+    pub fn linear_mr(&self, a: Att) -> Option<[crate::geom::Mr; 4]> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        if self.shapes.approx(b).is_none() {
+            let body = self.world.body(b);
+            let v = body.shape.f64_vertices()[a.v as usize];
+            return body.frame.linear_mr_of_vertex(v);
+        }
+        let [x0, x1, y0, y1] = self.enclose_linear(a)?;
+        Some([
+            crate::geom::Mr::of(x0)?,
+            crate::geom::Mr::of(x1)?,
+            crate::geom::Mr::of(y0)?,
+            crate::geom::Mr::of(y1)?,
+        ])
+    }
+
+    /// Whether the cached enclosure of `a` ([`Geo::enclose_linear`]) is
+    /// the one computed afresh (the audit's check that the memo never
+    /// answers for another point).
+    pub fn enclosure_cache_agrees(&self, a: Att) -> bool {
+        match self.linear_key(a) {
+            None => self.enclose_linear(a).is_none(),
+            Some((b, key)) => self.enclose_linear(a) == self.linear_fresh(b, key),
+        }
+    }
+
+    /// The position of `a` at a time in `t` in midpoint–radius form (`None`
+    /// for `ω` or where a value is not finite). A vertex of a polygon that
+    /// is not approximated comes straight from its input doubles and its
+    /// frame's midpoint–radius terms ([`Frame::mid_rad_of_vertex`]: a few
+    /// products, cheaper than a cache lookup). An approximation vertex is
+    /// [`MidRad::at`] of [`Geo::enclose_linear`] through a small cache
+    /// ([`MidCache`]): at an event the same few points are placed for many
+    /// predicates. An entry is keyed by everything the value depends on:
+    /// the body and id, the body's frame ([`Frame::uid`], never reused: a
+    /// motion change is a new frame), the approximation's contents
+    /// ([`Exposed::version`], never reused) and the two ends of `t`,
+    /// compared exactly; debug builds check every hit against a fresh
+    /// computation.
+    pub fn mid_rad(&self, a: Att, t: Interval) -> Option<MidRad> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        if self.shapes.approx(b).is_none() {
+            // a real vertex: from its input doubles and the frame's terms,
+            // cheaper than the cache
+            let body = self.world.body(b);
+            let v = body.shape.f64_vertices()[a.v as usize];
+            return body
+                .frame
+                .mid_rad_of_vertex(v, crate::geom::TimeMidRad::of(t));
+        }
+        let [version, uid] = self.view_words(b);
+        let id = a.word();
+        let key = [id, uid, version, t.lo.to_bits(), t.hi.to_bits()];
+        let cell = self
+            .shapes
+            .mids
+            .0
+            .at(id ^ uid.rotate_left(20) ^ version.rotate_left(40));
+        let (k, m) = cell.get();
+        // (word by word: an array comparison would call `memcmp`)
+        if k.iter().zip(&key).fold(0, |d, (x, y)| d | (x ^ y)) == 0 {
+            debug_assert_eq!(
+                m,
+                self.enclose_linear(a).and_then(|l| MidRad::at(l, t)),
+                "the point cache answers for another point: {a:?}"
+            );
+            return m;
+        }
+        let m = self.enclose_linear(a).and_then(|l| MidRad::at(l, t));
+        cell.set((key, m));
+        m
+    }
+
+    /// What body `b`'s vertices are as this view sees them, as two words:
+    /// its approximation's [`Exposed::version`] (0 for the real polygon)
+    /// and its frame's [`Frame::uid`].
+    pub(crate) fn view_words(&self, b: BodyId) -> [u64; 2] {
+        let version = self.shapes.approx(b).map_or(0, |ap| ap.exposed.version());
+        [version, self.world.body(b).frame.uid()]
+    }
+
+    /// An enclosure of `a`'s position at a time in `t` (the f64 filter of
+    /// the orientation tests; `None` for `ω`).
+    pub fn enclose(&self, a: Att, t: Interval) -> Option<[Interval; 2]> {
+        let [x0, x1, y0, y1] = self.enclose_linear(a)?;
+        Some([x0 + x1 * t, y0 + y1 * t])
+    }
+
+    /// A box `[x, y]` that holds, at any time in `t`, every vertex that
+    /// body `b` is seen with: its polygon's bounding box placed by the
+    /// frame (the real polygon), or the hull of its approximation
+    /// vertices' enclosures; `None` when an enclosure is not finite.
+    pub fn seen_box(&self, b: BodyId, t: Interval) -> Option<[Interval; 2]> {
+        let body = self.world.body(b);
+        let boxed = match self.shapes.approx(b) {
+            None => {
+                let [x0, x1, y0, y1] = body.shape.bounds();
+                let o = Interval::point(0.0);
+                let [px, py] = body.frame.enclose(o, o, t);
+                let p = Interval::point;
+                let (lx, hx) = ((px + p(x0)).lo, (px + p(x1)).hi);
+                let (ly, hy) = ((py + p(y0)).lo, (py + p(y1)).hi);
+                [Interval { lo: lx, hi: hx }, Interval { lo: ly, hi: hy }]
+            }
+            Some(ap) => {
+                let mut out: Option<[Interval; 2]> = None;
+                for k in ap.exposed.iter().filter(|&k| !ap.hidden(k)) {
+                    let e = self.enclose(Att::vertex(b, k as u32), t)?;
+                    out = Some(match out {
+                        None => e,
+                        Some(o) => [o[0].hull(&e[0]), o[1].hull(&e[1])],
+                    });
+                }
+                out?
+            }
+        };
+        boxed
+            .iter()
+            .all(|i| i.lo.is_finite() && i.hi.is_finite())
+            .then_some(boxed)
+    }
+
+    /// The sign of `orient(u, v, w)` at a time in `t` if the f64 filter
+    /// decides it and it is not zero (then it is also the sign just before
+    /// and just after that time); `None` otherwise.
+    pub fn orient_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
+        use super::counters::{bump, Counter};
+        bump(Counter::TurnsFiltered);
+        // the midpoint–radius filter first (cheapest, on the cached
+        // points), then the intervals
+        if let (Some(a), Some(b), Some(c)) =
+            (self.mid_rad(u, t), self.mid_rad(v, t), self.mid_rad(w, t))
+        {
+            if let Some(s) = crate::geom::orient_mid_rad(a, b, c) {
+                #[cfg(debug_assertions)]
+                {
+                    let at = |[x0, x1, y0, y1]: [Interval; 4]| [x0 + x1 * t, y0 + y1 * t];
+                    let lin = [u, v, w].map(|x| self.enclose_linear(x).map(at));
+                    if let [Some(eu), Some(ev), Some(ew)] = lin {
+                        if let Some(other) = crate::geom::orient_enclosed(eu, ev, ew) {
+                            assert_eq!(s, other, "the two filters disagree on {u:?} {v:?} {w:?}");
+                        }
+                    }
+                }
+                return Some(s);
+            }
+        }
+        let lin = [
+            self.enclose_linear(u)?,
+            self.enclose_linear(v)?,
+            self.enclose_linear(w)?,
+        ];
+        let at = |[x0, x1, y0, y1]: [Interval; 4]| [x0 + x1 * t, y0 + y1 * t];
+        let s = crate::geom::orient_enclosed(at(lin[0]), at(lin[1]), at(lin[2]));
+        if s.is_none() {
+            bump(Counter::TurnsUndecided);
+        }
+        s
+    }
+
+    /// The sign of `(u − v)·(w − v)` at a time in `t` if the f64 filter
+    /// decides it and it is not zero; `None` otherwise.
+    pub fn dot_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
+        let [ux, uy] = self.enclose(u, t)?;
+        let [vx, vy] = self.enclose(v, t)?;
+        let [wx, wy] = self.enclose(w, t)?;
+        let d = (ux - vx) * (wx - vx) + (uy - vy) * (wy - vy);
+        d.sign().filter(|&s| s != Sign::Zero)
+    }
+
+    /// The exact position of `a` at rational time `t` (`None` for `ω`).
+    pub fn position(&self, a: Att, t: &Rational) -> Option<Point> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let body = self.world.body(b);
+        match self.shapes.approx(b) {
+            None => Some(body.vertex_at(a.v as usize, t)),
+            Some(ap) => {
+                // a real vertex from the polygon's own coordinates (no
+                // homogeneous point to reduce)
+                let k = a.v as usize;
+                let real = ap.exposed.contains(k).then(|| ap.exposed.pred(k));
+                if let Some(v) = real.flatten().and_then(|i| ap.array.av_is_real(i, k)) {
+                    return Some(body.vertex_at(v, t));
+                }
+                let h = ap
+                    .array
+                    .vertex_of(&body.shape, &ap.exposed, a.v as usize)
+                    .expect("an exposed id with an approximation vertex");
+                Some(body.traj.position_at(t).add(&h.to_point(body.shape.exp())))
+            }
+        }
+    }
+}
