@@ -24,34 +24,24 @@ use crate::world::{BodyId, World};
 const MEMO_MAX: usize = 1 << 10;
 
 /// One entry of an [`EnclosureMemo`]: the approximation vertex `av(i, k)`
-/// as `(k, i)` (`k = u32::MAX`: empty), the enclosures of its body-frame
-/// coordinates ([`EdgeArray::av_enclose`]), and the uid of the frame whose
-/// world enclosures of its position at time 0 follow (the velocity terms
-/// are the frame's own).
-type MemoEntry = (u32, u32, u64, [Interval; 2], [Interval; 2]);
-
-const EMPTY_ENTRY: MemoEntry = (
-    u32::MAX,
-    0,
-    0,
-    [Interval { lo: 0.0, hi: 0.0 }; 2],
-    [Interval { lo: 0.0, hi: 0.0 }; 2],
-);
+/// as `(k, i)` (`k = u32::MAX`: empty) and the enclosures of its position
+/// at time 0 (the velocity terms are the frame's own).
+type MemoEntry = (u32, u32, [Interval; 2]);
 
 /// The linear enclosures of a body's recently seen approximation vertices,
-/// direct-mapped by exposed id: at an event the same few points are
-/// enclosed for many predicates. An entry names the body-frame point
-/// itself, `av(i, k)` with `i` the id before `k`, so a pop or a merge
-/// (which changes which point an exposed id names) leaves every other entry
-/// valid. It keeps the point's body-frame enclosure, which no motion
-/// changes, and its world enclosure in one frame (a frame's uid is never
-/// reused): after a motion change the world enclosure is the new frame's
-/// map of the body-frame one, a product and a sum per coordinate, without
-/// the intersection of two lines again. It grows with the approximation. A
-/// clone starts empty.
+/// direct-mapped by exposed id, for one frame (the memo's key): at an
+/// event the same few points are enclosed for many predicates. An entry
+/// names the body-frame point itself, `av(i, k)` with `i` the id before
+/// `k`, so a pop or a merge (which changes which point an exposed id names)
+/// leaves every other entry valid; a frame's uid is never reused, and a
+/// motion change (a new frame) starts the memo again. It grows with the
+/// approximation. A clone starts empty.
 pub struct EnclosureMemo {
+    uid: std::cell::Cell<u64>,
     slots: std::cell::RefCell<Vec<MemoEntry>>,
 }
+
+const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
 
 impl EnclosureMemo {
     /// An empty memo sized for an approximation of `n` vertices (`2n`
@@ -60,6 +50,7 @@ impl EnclosureMemo {
     /// swarm missed on slots that two exposed ids share).
     pub fn new(n: usize) -> EnclosureMemo {
         EnclosureMemo {
+            uid: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; Self::size(n)]),
         }
     }
@@ -75,47 +66,35 @@ impl EnclosureMemo {
         (k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize
     }
 
-    /// The world enclosures `[x0, y0]` of `av(i, k)` in `frame`, if the
-    /// memo holds the point.
-    fn get(&self, frame: &Frame, (k, i): (u32, u32)) -> Option<[Interval; 2]> {
-        let mut slots = self.slots.borrow_mut();
-        let at = Self::slot(slots.len(), k);
-        let e = &mut slots[at];
-        if e.0 != k || e.1 != i {
+    fn get(&self, uid: u64, (k, i): (u32, u32)) -> Option<[Interval; 2]> {
+        if self.uid.get() != uid {
             return None;
         }
-        let uid = frame.uid();
-        if e.2 != uid {
-            let [x0, _, y0, _] = frame.linear_enclosure(e.4[0], e.4[1]);
-            (e.2, e.3) = (uid, [x0, y0]);
-        }
-        Some(e.3)
+        let slots = self.slots.borrow();
+        let e = slots[Self::slot(slots.len(), k)];
+        (e.0 == k && e.1 == i).then_some(e.2)
     }
 
-    /// Keep `av(i, k)`, with body-frame enclosures `body` and world
-    /// enclosures `world` in the frame `uid`, the approximation having `n`
-    /// vertices.
-    fn put(
-        &self,
-        (uid, (k, i)): (u64, (u32, u32)),
-        n: usize,
-        world: [Interval; 2],
-        body: [Interval; 2],
-    ) {
+    /// Keep `e` for `av(i, k)` of the frame `uid`, the approximation having
+    /// `n` vertices.
+    fn put(&self, uid: u64, (k, i): (u32, u32), n: usize, e: [Interval; 2]) {
         let mut slots = self.slots.borrow_mut();
         let want = Self::size(n);
-        if want > slots.len() {
+        if self.uid.get() != uid || want > slots.len() {
+            let len = want.max(slots.len());
             slots.clear();
-            slots.resize(want, EMPTY_ENTRY);
+            slots.resize(len, EMPTY_ENTRY);
+            self.uid.set(uid);
         }
         let at = Self::slot(slots.len(), k);
-        slots[at] = (k, i, uid, world, body);
+        slots[at] = (k, i, e);
     }
 }
 
 impl Clone for EnclosureMemo {
     fn clone(&self) -> EnclosureMemo {
         EnclosureMemo {
+            uid: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; self.slots.borrow().len()]),
         }
     }
@@ -165,12 +144,14 @@ pub struct Approx {
     pub array: Arc<EdgeArray>,
     /// The exposed indices: the current approximation ([`Approx::exposed`];
     /// changed only by [`Approx::pop`], [`Approx::merge`] and
-    /// [`Approx::unmerge`], which keep `visible` with it).
+    /// [`Approx::unmerge`], which keep `hidden_ids` with it).
     exposed: Exposed,
-    /// The exposed ids that are not [`Approx::hidden`]: the vertices the
-    /// structure sees, in order, so that a walk of `k` steps round the
-    /// approximation is a rank and a select, and one step a predecessor.
-    visible: Exposed,
+    /// The exposed ids that are [`Approx::hidden`], in increasing order
+    /// (few: three exposed lines through one real vertex), so that the
+    /// visible ids are the exposed set without them: a walk of `k` steps
+    /// round the approximation is a rank and a select in the exposed set,
+    /// corrected by this list, and no second set is kept.
+    hidden_ids: Vec<u32>,
     /// Recent enclosures of its vertices ([`Geo::enclose_linear`]).
     pub memo: EnclosureMemo,
     /// A box of its vertices in the body's grid coordinates, with the
@@ -512,20 +493,21 @@ impl Approx {
 
     /// An approximation of exposed set `exposed` of `array`.
     pub fn new(array: Arc<EdgeArray>, exposed: Exposed) -> Approx {
-        let mut visible = Exposed::new(exposed.universe());
         let memo = EnclosureMemo::new(exposed.len());
         let mut ap = Approx {
             array,
-            exposed: Exposed::new(1),
-            visible: Exposed::new(1),
+            exposed,
+            hidden_ids: Vec::new(),
             memo,
             grid_box: Default::default(),
         };
-        ap.exposed = exposed;
-        ap.each_visible(|k, _| {
-            visible.insert(k);
-        });
-        ap.visible = visible;
+        let hidden: Vec<u32> = ap
+            .exposed
+            .iter()
+            .filter(|&k| ap.hidden(k))
+            .map(|k| k as u32)
+            .collect();
+        ap.hidden_ids = hidden;
         ap
     }
 
@@ -537,7 +519,7 @@ impl Approx {
     /// Pop the vertex with id `k` ([`EdgeArray::pop`]): the id inserted.
     pub fn pop(&mut self, k: usize) -> Option<usize> {
         let t = self.array.pop(&mut self.exposed, k)?;
-        self.sync_visible(t);
+        self.sync_hidden(t);
         Some(t)
     }
 
@@ -545,7 +527,7 @@ impl Approx {
     pub fn merge(&mut self, k: usize) -> bool {
         let merged = self.array.merge(&mut self.exposed, k);
         if merged {
-            self.sync_visible(k);
+            self.sync_hidden(k);
         }
         merged
     }
@@ -553,55 +535,84 @@ impl Approx {
     /// Put back id `k`, merged away just before (a merge taken back).
     pub fn unmerge(&mut self, k: usize) {
         if self.exposed.insert(k) {
-            self.sync_visible(k);
+            self.sync_hidden(k);
         }
     }
 
-    /// Bring [`Approx::visible`] up to date after id `x` entered or left
-    /// the exposed set: only `x` and its two exposed neighbours (whose
+    /// Whether exposed id `k` is in the list of hidden ids.
+    #[inline]
+    fn listed_hidden(&self, k: usize) -> bool {
+        !self.hidden_ids.is_empty() && self.hidden_ids.binary_search(&(k as u32)).is_ok()
+    }
+
+    /// Bring the list of hidden ids up to date after id `x` entered or
+    /// left the exposed set: only `x` and its two exposed neighbours (whose
     /// neighbour `x` is or was) can have become hidden or visible.
-    fn sync_visible(&mut self, x: usize) {
+    fn sync_hidden(&mut self, x: usize) {
+        let set =
+            |list: &mut Vec<u32>, y: usize, on: bool| match (list.binary_search(&(y as u32)), on) {
+                (Err(at), true) => list.insert(at, y as u32),
+                (Ok(at), false) => {
+                    list.remove(at);
+                }
+                _ => {}
+            };
         let s = &self.exposed;
-        let (Some(p), Some(q)) = (s.pred(x), s.succ(x)) else {
-            self.visible.remove(x);
-            return;
-        };
-        let mut ids: arrayvec::ArrayVec<usize, 3> = arrayvec::ArrayVec::new();
-        ids.push(p);
-        if s.contains(x) {
-            ids.push(x);
-        } else {
-            self.visible.remove(x);
+        let mut ids: arrayvec::ArrayVec<(usize, bool), 3> = arrayvec::ArrayVec::new();
+        if let (Some(p), Some(q)) = (s.pred(x), s.succ(x)) {
+            ids.push((p, self.hidden(p)));
+            ids.push((q, self.hidden(q)));
         }
-        ids.push(q);
-        for y in ids {
-            if self.hidden(y) {
-                self.visible.remove(y);
-            } else {
-                self.visible.insert(y);
-            }
+        ids.push((x, s.contains(x) && self.hidden(x)));
+        for (y, on) in ids {
+            set(&mut self.hidden_ids, y, on);
         }
-        #[cfg(debug_assertions)]
-        {
-            let mut all = Vec::new();
-            self.each_visible(|k, _| all.push(k));
-            debug_assert_eq!(
-                all,
-                self.visible.iter().collect::<Vec<_>>(),
-                "the visible set is not the exposed ids that are not hidden"
-            );
-        }
+        debug_assert_eq!(
+            self.hidden_ids,
+            self.exposed
+                .iter()
+                .filter(|&k| self.hidden(k))
+                .map(|k| k as u32)
+                .collect::<Vec<_>>(),
+            "the list of hidden ids is not the exposed ids that are hidden"
+        );
     }
 
-    /// The visible ids (the ids of [`Approx::each_visible`]) as a set.
-    pub fn visible(&self) -> &Exposed {
-        &self.visible
+    /// The number of visible ids (the ids of [`Approx::each_visible`]).
+    pub fn visible_len(&self) -> usize {
+        self.exposed.len() - self.hidden_ids.len()
+    }
+
+    /// The number of visible ids below `k`.
+    fn visible_rank(&self, k: usize) -> usize {
+        let below = self.hidden_ids.partition_point(|&h| (h as usize) < k);
+        self.exposed.rank(k) - below
+    }
+
+    /// The visible id with `r` visible ids below it (`r` below
+    /// [`Approx::visible_len`]): the exposed id of rank `r + c`, `c` the
+    /// hidden ids up to it, found by raising `c` until it holds (at once
+    /// when no id is hidden).
+    fn visible_select(&self, r: usize) -> usize {
+        let mut c = 0;
+        loop {
+            let e = self.exposed.select(r + c).expect("a rank below the length");
+            let upto = self.hidden_ids.partition_point(|&h| h as usize <= e);
+            if upto == c {
+                return e;
+            }
+            c = upto;
+        }
     }
 
     /// The visible id after `k` (counter-clockwise): the first exposed id
     /// after `k` that is not [`Approx::hidden`], or `k` when there is none.
     pub fn next_visible(&self, k: usize) -> usize {
-        let x = self.visible.succ(k).unwrap_or(k);
+        let s = &self.exposed;
+        let mut x = s.succ(k).expect("a non-empty set");
+        while x != k && self.listed_hidden(x) {
+            x = s.succ(x).expect("a non-empty set");
+        }
         debug_assert_eq!(x, self.next_visible_walk(k));
         x
     }
@@ -609,7 +620,11 @@ impl Approx {
     /// The visible id before `k` (clockwise), as [`Approx::next_visible`]
     /// in the other direction.
     pub fn prev_visible(&self, k: usize) -> usize {
-        let x = self.visible.pred(k).unwrap_or(k);
+        let s = &self.exposed;
+        let mut x = s.pred(k).expect("a non-empty set");
+        while x != k && self.listed_hidden(x) {
+            x = s.pred(x).expect("a non-empty set");
+        }
         debug_assert_eq!(x, self.prev_visible_walk(k));
         x
     }
@@ -617,26 +632,25 @@ impl Approx {
     /// The visible id `k` steps clockwise from `from` (walking
     /// [`Approx::prev_visible`] `k` times): a rank and a select.
     pub fn cw(&self, from: usize, k: u32) -> usize {
-        let v = &self.visible;
         // (a few steps are cheaper as predecessors than as a rank and a
         // select, each a pass over a Fenwick tree)
         if k <= 8 {
             let mut x = from;
             for _ in 0..k {
-                x = v.pred(x).unwrap_or(x);
+                x = self.prev_visible(x);
             }
             return x;
         }
-        let l = v.len();
+        let l = self.visible_len();
         if l == 0 {
             return from;
         }
         // (each step lowers the rank by one, cyclically; a hidden `from`
         // has the rank of the visible id after it)
-        let r = v.rank(from) as u64;
+        let r = self.visible_rank(from) as u64;
         let l64 = l as u64;
         let target = (r + l64 - u64::from(k) % l64) % l64;
-        v.select(target as usize).expect("a rank below the length")
+        self.visible_select(target as usize)
     }
 
     /// The number of clockwise steps ([`Approx::prev_visible`]) from
@@ -646,13 +660,13 @@ impl Approx {
         if from == to {
             return Some(0);
         }
-        let v = &self.visible;
-        if !v.contains(to) {
+        let visible = |x: usize| self.exposed.contains(x) && !self.listed_hidden(x);
+        if !visible(to) {
             return None;
         }
-        let l = v.len() as u64;
-        let (rf, rt) = (v.rank(from) as u64, v.rank(to) as u64);
-        let d = if v.contains(from) {
+        let l = self.visible_len() as u64;
+        let (rf, rt) = (self.visible_rank(from) as u64, self.visible_rank(to) as u64);
+        let d = if visible(from) {
             (rf + l - rt) % l
         } else {
             (rf + l - rt + l - 1) % l + 1
@@ -734,7 +748,7 @@ impl<'a> Geo<'a> {
     pub fn count(&self, b: BodyId) -> u32 {
         match self.shapes.approx(b) {
             None => self.world.body(b).shape.len() as u32,
-            Some(a) => a.visible.len() as u32,
+            Some(a) => a.visible_len() as u32,
         }
     }
 
@@ -966,24 +980,13 @@ impl<'a> Geo<'a> {
         }
         let i = ap.exposed.pred(k)?;
         let ki = (a.v, i as u32);
-        if let Some([x0, y0]) = ap.memo.get(frame, ki) {
+        if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki) {
             let [x1, y1] = frame.velocity_enclosure();
             return Some([x0, x1, y0, y1]);
         }
-        if let Some(v) = ap.array.av_is_real(i, k) {
-            // a real vertex: from its input doubles, no memo
-            let v = self.world.body(b).shape.f64_vertices()[v];
-            return Some(frame.linear_enclosure_of_vertex(v));
-        }
-        let [x, y] = ap.array.av_enclose(i, k)?;
-        let e = frame.linear_enclosure(x, y);
-        debug_assert_eq!(
-            Some(e),
-            self.linear_key(a)
-                .and_then(|(b, at)| self.linear_fresh(b, at))
-        );
-        ap.memo
-            .put((frame.uid(), ki), ap.exposed.len(), [e[0], e[2]], [x, y]);
+        let (b, at) = self.linear_key(a)?;
+        let e = self.linear_fresh(b, at)?;
+        ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
         Some(e)
     }
 
@@ -1219,7 +1222,7 @@ impl<'a> Geo<'a> {
             }
             Some(ap) => {
                 let mut out: Option<[Interval; 2]> = None;
-                for k in ap.visible.iter() {
+                for k in ap.exposed.iter().filter(|&k| !ap.listed_hidden(k)) {
                     let e = self.enclose(Att::vertex(b, k as u32), t)?;
                     out = Some(match out {
                         None => e,
@@ -1329,7 +1332,7 @@ impl<'a> Geo<'a> {
 mod tests {
     use super::*;
 
-    /// `Approx::cw`, `Approx::cw_distance` and the visible set agree with
+    /// `Approx::cw`, `Approx::cw_distance` and the visible ranks agree with
     /// walks of `Approx::prev_visible` over the exposed set, for every id,
     /// as pops and merges change the approximation of a 37-gon (whose edge
     /// array repeats edges: ids that become hidden).
@@ -1342,7 +1345,11 @@ mod tests {
         let mut ap = Approx::new(array, exposed);
         let check = |ap: &Approx| {
             let walked: Vec<usize> = ap.exposed().iter().filter(|&k| !ap.hidden(k)).collect();
-            assert_eq!(ap.visible().iter().collect::<Vec<_>>(), walked);
+            assert_eq!(ap.visible_len(), walked.len());
+            for (r, &k) in walked.iter().enumerate() {
+                assert_eq!(ap.visible_select(r), k);
+                assert_eq!(ap.visible_rank(k), r);
+            }
             let m = ap.exposed().universe();
             for from in (0..m).filter(|&k| ap.exposed().contains(k)) {
                 let mut x = from;
@@ -1382,7 +1389,7 @@ mod tests {
             };
             popped.push(t);
             check(&ap);
-            hidden = hidden.max(ap.exposed().len() - ap.visible().len());
+            hidden = hidden.max(ap.exposed().len() - ap.visible_len());
         }
         assert!(popped.len() > 10, "only {} pops", popped.len());
         assert!(hidden > 0, "no id was hidden");

@@ -1239,7 +1239,7 @@ impl Kss {
     /// holds: the at most seven points are compared first
     /// ([`super::faces::coincide_at`]), and only a pair that coincides is
     /// placed on the chains
-    /// ([`Geo::cw_distance`], a rank in each approximation's visible set).
+    /// ([`Geo::cw_distance`], ranks in each approximation's exposed set).
     fn touching_bridges(&self, world: &Geo, k: CorrId, t: &Time) -> Vec<(u32, u32)> {
         let c = &self.corrs[k.0 as usize];
         let (len_a, len_b) = (c.len_a, c.len_b);
