@@ -48,11 +48,18 @@ pub trait ExactTime: Send + Sync + 'static {
     /// The exact time. It must lie in the enclosure the deferred time was
     /// made with.
     fn exact(&self) -> Time;
+
+    /// Whether the exact time is known to be rational without computing
+    /// it (`false`: not known).
+    fn known_rational(&self) -> bool {
+        false
+    }
 }
 
 trait Force: Send + Sync {
     fn force(&self) -> &Time;
     fn pending(&self) -> bool;
+    fn known_rational(&self) -> bool;
 }
 
 struct Once<S> {
@@ -89,6 +96,13 @@ impl<S: ExactTime> Force for Once<S> {
 
     fn pending(&self) -> bool {
         self.cell.get().is_none()
+    }
+
+    fn known_rational(&self) -> bool {
+        match self.cell.get() {
+            Some(t) => matches!(t.kind, Kind::Rat(_)),
+            None => self.src.known_rational(),
+        }
     }
 }
 
@@ -294,6 +308,18 @@ impl Time {
             (Kind::Rat(x), Kind::Rat(y)) => x == y,
             (Kind::Root(x), Kind::Root(y)) => x == y,
             _ => false,
+        }
+    }
+
+    /// Whether this time is known to be rational without computing a
+    /// deferred time (a deferred one whose computation says so, see
+    /// [`ExactTime::known_rational`]); `false` may also mean "could not
+    /// tell cheaply".
+    pub fn known_rational(&self) -> bool {
+        match &self.kind {
+            Kind::Rat(_) => true,
+            Kind::Root(_) => false,
+            Kind::Deferred(f) => f.known_rational(),
         }
     }
 

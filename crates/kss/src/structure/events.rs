@@ -288,7 +288,13 @@ pub fn real_touch_excluded(
     // rational positions: no gcd)
     use crate::motion::{dot_poly, orient_poly};
     use crate::num::Sign;
-    t.as_rational()?;
+    // (rational without computing it where the triple's failure time
+    // says so: its exact value is then computed only where a filter
+    // below cannot decide)
+    if !t.known_rational() {
+        t.as_rational()?;
+    }
+    debug_assert!(t.as_rational().is_some(), "a time known rational is not");
     let pts = p.map(|a| world.point(a));
     let turn_zero = || orient_poly(&pts[0], &pts[1], &pts[2]).sign_at(t) == Sign::Zero;
     debug_assert!(!zero || turn_zero(), "the turn of {p:?} is not zero");

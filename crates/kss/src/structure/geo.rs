@@ -123,6 +123,11 @@ enum PointSrc {
 }
 
 impl PointRef {
+    /// Whether `self` and `other` move by one frame (the same motion).
+    pub fn same_frame(&self, other: &PointRef) -> bool {
+        Arc::ptr_eq(&self.frame, &other.frame)
+    }
+
     /// The moving world position for the frame it was taken with.
     pub fn linear(&self) -> LinearPoint {
         match &self.src {

@@ -131,6 +131,14 @@ impl ExactTime for DeferredFailure {
         .failure_root()
         .expect("the filter proved that the certificate fails")
     }
+
+    /// A turn certificate with two points that move alike (one frame) has
+    /// a function of degree at most one in time: its roots are rational.
+    fn known_rational(&self) -> bool {
+        let [a, b, c] = &self.p;
+        self.kind != crate::structure::certs::CertKind::Order
+            && (a.same_frame(b) || b.same_frame(c) || a.same_frame(c))
+    }
 }
 
 /// When certificate `c` fails, given that `now` is the current time: `now`

@@ -58,9 +58,6 @@ pub(super) fn each_body(p: &[Att; 3]) -> impl Iterator<Item = BodyId> {
 /// which checks them exactly): only where all three are real polygon
 /// vertices (the one that an approximation touches is not a contact).
 fn hint_contact(world: &Geo, p: &[Att; 3], t: &Time) {
-    let Some(r) = t.as_rational() else {
-        return;
-    };
     let real = |a: Att| match world.point_id(a)? {
         (_, (u32::MAX, v)) => Some(v as usize),
         _ => None,
@@ -84,7 +81,10 @@ fn hint_contact(world: &Geo, p: &[Att; 3], t: &Time) {
         } else {
             continue;
         };
-        world.world.hint_contact(r, (bz, vz), (bx, j));
+        // (the instant computed only for a contact of real features)
+        if let Some(r) = t.as_rational() {
+            world.world.hint_contact(r, (bz, vz), (bx, j));
+        }
         return;
     }
 }
@@ -127,14 +127,14 @@ pub(super) fn contact_pairs(
         v.push((a, c));
         v.push((b, c));
     }
-    let Some(r) = t.as_rational() else {
-        return v;
-    };
     // approximations touching where the polygons certainly do not: a
     // refinement, not a contact to look around
     if third.is_none() && apart.is_some() {
         return v;
     }
+    let Some(r) = t.as_rational() else {
+        return v;
+    };
     let mut near: BTreeSet<BodyId> = BTreeSet::new();
     let mut add = |x: Att| {
         if let Obj::Body(b) = x.obj {
