@@ -346,6 +346,11 @@ impl super::ExactTime for FailureRoot {
             .failure_root()
             .expect("the filter proved that the function fails")
     }
+
+    /// The root of an integer polynomial of degree one is rational.
+    fn known_rational(&self) -> bool {
+        self.0.degree() == Some(1)
+    }
 }
 
 impl PartialEq for Poly {

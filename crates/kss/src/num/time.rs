@@ -574,6 +574,40 @@ mod tests {
         Int::from(x)
     }
 
+    /// A deferred time computed by a closure, with a claim on whether it
+    /// is rational.
+    struct Claim(bool, fn() -> Time);
+
+    impl ExactTime for Claim {
+        fn exact(&self) -> Time {
+            (self.1)()
+        }
+        fn known_rational(&self) -> bool {
+            self.0
+        }
+    }
+
+    #[test]
+    fn a_time_known_rational_is_known_without_computing_it() {
+        let half = || Time::from_f64(0.5).unwrap();
+        let root = || Time::quadratic_root(&int(1), &int(0), &int(-2), true);
+        let near = |x: f64| Interval {
+            lo: x.next_down(),
+            hi: x.next_up(),
+        };
+        // the computation's claim answers while the time is pending
+        let t = Time::deferred(near(0.5), Claim(true, half));
+        assert!(t.known_rational() && t.is_pending());
+        // no claim: not known until computed, then what it is
+        let t = Time::deferred(near(0.5), Claim(false, half));
+        assert!(!t.known_rational());
+        assert!(t.as_rational().is_some() && t.known_rational());
+        let s = Time::deferred(near(std::f64::consts::SQRT_2), Claim(false, root));
+        assert!(s.as_rational().is_none() && !s.known_rational());
+        // exact times answer for themselves
+        assert!(half().known_rational() && !root().known_rational());
+    }
+
     #[test]
     fn roots_and_order() {
         // t² − 2 = 0: ±√2

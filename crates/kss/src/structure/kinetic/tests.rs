@@ -322,3 +322,48 @@ fn point_words_order_triples_as_the_points_do() {
     let by_word: Vec<[Att; 3]> = words.iter().map(|w| w.map(Att::from_word)).collect();
     assert_eq!(by_ord, by_word);
 }
+
+/// A turn certificate with two points on one body has a failure time of
+/// degree at most one: `Time::known_rational` says so before the time is
+/// computed, and the computed time is rational (on the plain and the
+/// approximated views of the small families, with either sign).
+#[test]
+fn failure_times_of_two_points_on_one_body_are_known_rational() {
+    use crate::structure::certs::{Cert, CertKind};
+    let (mut claimed, mut deferred) = (0, 0);
+    each_view(6, 3, |geo, pts| {
+        let now = Time::zero();
+        for w in pts.windows(2) {
+            let (u, v) = (w[0], w[1]);
+            if u.obj != v.obj {
+                continue;
+            }
+            for &x in pts.iter().filter(|x| x.obj != u.obj).take(4) {
+                for sign in [Sign::Positive, Sign::Negative] {
+                    let c = Cert {
+                        p: [u, v, x],
+                        sign,
+                        kind: CertKind::Junction,
+                    };
+                    let e = cert_enclosure(geo, &c);
+                    let Some(t) = super::book::failure_time(geo, &c, &now, e) else {
+                        continue;
+                    };
+                    if !t.is_pending() {
+                        continue;
+                    }
+                    deferred += 1;
+                    if t.known_rational() {
+                        claimed += 1;
+                        assert!(t.is_pending(), "computed to answer");
+                        assert!(t.as_rational().is_some(), "{c:?}: {t:?} is not rational");
+                    }
+                }
+            }
+        }
+    });
+    assert!(
+        claimed > 20 && claimed == deferred,
+        "{claimed} of {deferred}"
+    );
+}
