@@ -607,24 +607,32 @@ impl Kinetic {
         out
     }
 
-    /// The owners of the certificates on body `b` that name one of `ids`.
-    pub(super) fn owners_naming(&self, b: BodyId, ids: &[Att]) -> BTreeSet<Owner> {
-        self.certs_naming(b, ids)
+    /// The certificates on body `b` that name one of `ids`
+    /// ([`Kinetic::certs_naming`]), and their owners.
+    pub(super) fn owners_naming(&self, b: BodyId, ids: &[Att]) -> (Named, BTreeSet<Owner>) {
+        let named = self.certs_naming(b, ids);
+        let owners = named
             .iter()
             .filter_map(|&(_, id)| self.certs.at(id))
             .flat_map(|s| s.owners.iter().copied())
-            .collect()
+            .collect();
+        (Named(named), owners)
     }
 
     /// After vertices `ids` of body `b` changed place (a pop or a merge):
     /// recompute the certificates of `owners`, then schedule again every
     /// certificate still naming one of `ids` (its points moved) that those
-    /// refreshes did not schedule anew.
+    /// refreshes did not schedule anew. `named` is what
+    /// [`Kinetic::owners_naming`] found before the refreshes: a certificate
+    /// naming one of `ids` afterwards is one of those still there, or one
+    /// the refreshes scheduled anew (only they make certificates, and a
+    /// certificate's points never change), so the body's certificates are
+    /// not searched again.
     pub(super) fn refresh_moved(
         &mut self,
         geo: &Geo,
         (b, ids): (BodyId, &[Att]),
-        owners: BTreeSet<Owner>,
+        (named, owners): (Named, BTreeSet<Owner>),
         t: &Time,
     ) -> Result<(), StructureError> {
         // (a certificate the owners' refreshes scheduled anew has its
@@ -633,7 +641,23 @@ impl Kinetic {
         let refreshed = owners.into_iter().try_for_each(|o| self.refresh(geo, o, t));
         let fresh = self.scheduled.take().unwrap_or_default();
         refreshed?;
-        for (_, id) in self.certs_naming(b, ids) {
+        let still: Vec<([Att; 3], CertId)> = named
+            .0
+            .into_iter()
+            .filter(|&(p, id)| self.certs.at(id).is_some_and(|s| s.cert.p == p))
+            .collect();
+        debug_assert_eq!(
+            still
+                .iter()
+                .filter(|(_, id)| !fresh.contains(id))
+                .collect::<Vec<_>>(),
+            self.certs_naming(b, ids)
+                .iter()
+                .filter(|(_, id)| !fresh.contains(id))
+                .collect::<Vec<_>>(),
+            "a certificate naming the moved vertices was made outside the refreshes"
+        );
+        for (_, id) in still {
             if !fresh.contains(&id) {
                 self.reschedule_id(geo, id, t, None);
             }
@@ -671,3 +695,7 @@ impl Kinetic {
         }
     }
 }
+
+/// The certificates on a body that name some vertices, in the order of
+/// their points ([`Kinetic::owners_naming`]), for [`Kinetic::refresh_moved`].
+pub(super) struct Named(Vec<([Att; 3], CertId)>);

@@ -115,7 +115,7 @@ impl Kinetic {
             unreachable!("a popped vertex is on a body")
         };
         // every certificate on a changed vertex, and its owners
-        let mut owners = self.owners_naming(b, &ids);
+        let (named, mut owners) = self.owners_naming(b, &ids);
         owners.extend(corrs.iter().map(|&k| Owner::Corr(k)));
         owners.extend(tris.iter().map(|&t| Owner::Tri(t)));
         for o in &owners {
@@ -127,7 +127,7 @@ impl Kinetic {
                 }
             }
         }
-        self.refresh_moved(&geo, (b, &ids), owners, t)?;
+        self.refresh_moved(&geo, (b, &ids), (named, owners), t)?;
         self.tally.local_pops += 1;
         Ok((true, true))
     }
@@ -709,9 +709,9 @@ impl Kinetic {
             let Obj::Body(b) = q.obj else {
                 continue;
             };
-            let mut owners = self.owners_naming(b, &[q]);
+            let (named, mut owners) = self.owners_naming(b, &[q]);
             owners.insert(Owner::Corr(k));
-            self.refresh_moved(&geo, (b, &[q]), owners, t)?;
+            self.refresh_moved(&geo, (b, &[q]), (named, owners), t)?;
         }
         self.tally.merges += merges;
         Ok(merges)
