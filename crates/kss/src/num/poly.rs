@@ -114,30 +114,12 @@ impl Poly {
     /// not zero, else that of the first non-vanishing derivative.
     /// [`Sign::Zero`] only for the zero polynomial.
     pub fn sign_after(&self, t: &Time) -> Sign {
-        let s = self.sign_at(t);
-        if s != Sign::Zero {
-            return s;
-        }
-        let d = self.derivative();
-        let s1 = d.sign_at(t);
-        if s1 != Sign::Zero {
-            return s1;
-        }
-        Sign::of(&self.c[2])
+        self.signs_around(t)[1]
     }
 
     /// The sign on an open interval just before `t`.
     pub fn sign_before(&self, t: &Time) -> Sign {
-        let s = self.sign_at(t);
-        if s != Sign::Zero {
-            return s;
-        }
-        let d = self.derivative();
-        let s1 = d.sign_at(t);
-        if s1 != Sign::Zero {
-            return s1.neg();
-        }
-        Sign::of(&self.c[2])
+        self.signs_around(t)[0]
     }
 
     /// [`Poly::sign_before`] and [`Poly::sign_after`] of `t`, from one
@@ -412,9 +394,11 @@ mod tests {
     }
 
     #[test]
-    fn signs_around_are_the_signs_before_and_after() {
+    fn signs_around_are_the_signs_just_before_and_after() {
         // roots simple and double, rational and irrational, a constant,
         // the zero polynomial; instants at, between and beside the roots
+        // (every other root at least 0.08 away from each instant: the signs
+        // 2^-20 before and after it are the signs just beside it)
         let polys = [
             p(-2, 0, 1),
             p(1, -2, 1),
@@ -427,11 +411,15 @@ mod tests {
         ];
         let mut instants: Vec<Time> = [-1.0, 0.0, 0.5, 1.0, 1.5, 3.0].into_iter().map(t).collect();
         instants.extend(p(-2, 0, 1).roots());
+        let d = 2f64.powi(-20);
         for q in &polys {
             for at in &instants {
+                let x = at.to_f64();
+                let beside = [t(x - d), t(x + d)].map(|b| q.sign_at(&b));
+                assert_eq!(q.signs_around(at), beside, "{q:?} at {at:?}");
                 assert_eq!(
-                    q.signs_around(at),
                     [q.sign_before(at), q.sign_after(at)],
+                    beside,
                     "{q:?} at {at:?}"
                 );
             }
