@@ -105,9 +105,15 @@ impl Kss {
         busy: &dyn Fn(Att, Att) -> bool,
     ) -> Option<Att> {
         let c = self.corrs[k.0 as usize].clone();
+        // (only an approximation's vertex is ever hidden)
+        let approximated = |o: Obj| matches!(o, Obj::Body(b) if shapes.approx(b).is_some());
+        if !approximated(c.a) && !approximated(c.b) {
+            return None;
+        }
         let (a_s, b_s, a_t, b_t) = self.ends(k);
         // candidate chains: A from a_s (len_a), B from b_t (len_b)
-        let mut chains: Vec<(Att, u32, bool)> = vec![(a_s, c.len_a, true)];
+        let mut chains: arrayvec::ArrayVec<(Att, u32, bool), 2> = arrayvec::ArrayVec::new();
+        chains.push((a_s, c.len_a, true));
         if c.b != Obj::Omega {
             chains.push((b_t, c.len_b, false));
         }
@@ -155,12 +161,12 @@ impl Kss {
                 return None;
             }
         }
+        let ap = shapes.approx(bid)?;
         // a certificate still names `k`, or one on `q` fails at this
         // instant: not now
         if busy(kv, qv) {
             return None;
         }
-        let ap = shapes.approx(bid)?;
         let kk = kv.v as usize;
         let (p, q) = (ap.exposed().pred(kk)?, ap.exposed().succ(kk)?);
         if q != qv.v as usize || ap.hidden(kk) || ap.hidden(p) || ap.hidden(q) {

@@ -438,7 +438,10 @@ impl Kinetic {
             }
         }
         let kept: arrayvec::ArrayVec<CertId, MAX_CERTS> = same.iter().flatten().copied().collect();
-        let mut mine = Vec::with_capacity(fresh.len());
+        // (the old list's buffer, read above, takes the new one)
+        let mut mine = old;
+        mine.clear();
+        mine.reserve(fresh.len());
         for (c, same) in fresh.into_iter().zip(same) {
             if let Some(id) = same {
                 mine.push(id);
