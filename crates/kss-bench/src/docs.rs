@@ -30,7 +30,8 @@
 //!     workload and method. `file:`, `workloads:`, `methods:`, `columns:`
 //!     (from `workload`, `method`, `status`, `wall`, `build`, `events`,
 //!     `collisions`, `events / collision`, `µs / event`,
-//!     `µs / event after build`, `µs / collision`, `peak RSS (MiB)`).
+//!     `µs / event after build`, `µs / collision`, `peak RSS (MiB)`,
+//!     `peak heap (MiB)`, `allocs / event`).
 //!   - `::: machine`: the machines that the reports of the results folder
 //!     name (their `Machine:` lines, without the kernel version).
 //!
@@ -757,6 +758,10 @@ fn cell_value(c: &CellResult, column: &str) -> Result<String, String> {
             .peak_rss_kib
             .filter(|_| ok)
             .map_or(String::new(), |k| format!("{:.1}", k as f64 / 1024.0)),
+        "peak heap (MiB)" => report::peak_heap_mib(o).map_or(String::new(), |m| format!("{m:.1}")),
+        "allocs / event" => {
+            report::allocations_per_event(o).map_or(String::new(), |x| format!("{x:.1}"))
+        }
         other => return Err(format!("`::: cells` has no column {other:?}")),
     })
 }

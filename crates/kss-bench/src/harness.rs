@@ -7,7 +7,11 @@
 //! kernel's peak-RSS counter (`/proc/self/clear_refs`), runs the method and
 //! reads `VmHWM` from `/proc/self/status`. So the figure is the largest
 //! resident size of the process during the method's run, the scenario
-//! (held by every method alike) included. With [`Executor::InProcess`]
+//! (held by every method alike) included. The child also counts its heap
+//! ([`crate::heap`]): the largest number of live heap bytes the method
+//! added over those live when it started (so the scene excluded), and its
+//! allocations; these depend only on the code run, not on the binary's
+//! layout or the system allocator's mappings. With [`Executor::InProcess`]
 //! (tests) the budget is only checked cooperatively by the baselines and no
 //! memory is reported.
 //!
@@ -91,6 +95,15 @@ pub struct CellOutcome {
     pub counters: Counters,
     /// Peak resident memory during the run, KiB (child processes only).
     pub peak_rss_kib: Option<u64>,
+    /// The largest number of live heap bytes the run added over those live
+    /// when it started (child processes of `kss-bench` only: see
+    /// [`crate::heap`]).
+    #[serde(default)]
+    pub peak_heap_bytes: Option<u64>,
+    /// Allocations during the run (`alloc`, `alloc_zeroed` and `realloc`
+    /// calls; where [`CellOutcome::peak_heap_bytes`] is measured).
+    #[serde(default)]
+    pub allocations: Option<u64>,
     /// With [`Config::build_time`], for the library's structures: wall time
     /// of a separate run up to [`crate::method::BUILD_UNTIL`] (world,
     /// validation, structure and its certificates; no events), made before
@@ -108,6 +121,8 @@ impl CellOutcome {
             sim_seconds: 0.0,
             counters: Counters::default(),
             peak_rss_kib: None,
+            peak_heap_bytes: None,
+            allocations: None,
             build_seconds: None,
         }
     }
@@ -320,6 +335,12 @@ pub fn run_cell(
         }
     }
     let memory = measure_memory && reset_peak_rss();
+    let heap_before = measure_memory
+        .then(|| {
+            crate::heap::reset();
+            crate::heap::read()
+        })
+        .flatten();
     let start = Instant::now();
     let result = method.run_scaled(
         &scenario,
@@ -327,6 +348,7 @@ pub fn run_cell(
         Deadline::after(budget_seconds),
     );
     let wall_seconds = start.elapsed().as_secs_f64();
+    let heap = heap_before.zip(crate::heap::read());
     let peak_rss_kib = if memory { peak_rss_kib() } else { None };
     let sim_seconds = |events: &[Event]| match (scenario.on_collision, events.first()) {
         (kss::CollisionMode::Stop, Some(e)) => e.time,
@@ -365,6 +387,8 @@ pub fn run_cell(
             setup_seconds,
             counters,
             peak_rss_kib,
+            peak_heap_bytes: heap.map(|(b, a)| a.peak_bytes - b.live_bytes),
+            allocations: heap.map(|(_, a)| a.allocations),
             build_seconds,
         },
         events,

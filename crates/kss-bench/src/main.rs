@@ -5,6 +5,11 @@
 
 use clap::Parser;
 
+/// Counts live heap bytes and allocations for the cells' memory figures
+/// ([`kss_bench::heap`]).
+#[global_allocator]
+static ALLOCATOR: kss_bench::heap::Counting = kss_bench::heap::Counting;
+
 fn main() {
     let args = kss_bench::cli::BenchArgs::parse();
     if let Err(e) = kss_bench::command::bench(&args) {

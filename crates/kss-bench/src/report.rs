@@ -225,6 +225,21 @@ pub fn ns_per_event(o: &CellOutcome) -> Option<f64> {
         .then(|| o.wall_seconds * 1e9 / o.counters.events as f64)
 }
 
+/// The peak heap of a completed cell in MiB ([`CellOutcome::peak_heap_bytes`]).
+pub fn peak_heap_mib(o: &CellOutcome) -> Option<f64> {
+    o.peak_heap_bytes
+        .filter(|_| o.status == Status::Ok)
+        .map(|b| b as f64 / (1024.0 * 1024.0))
+}
+
+/// Allocations per processed event of a completed cell
+/// ([`CellOutcome::allocations`]).
+pub fn allocations_per_event(o: &CellOutcome) -> Option<f64> {
+    o.allocations
+        .filter(|_| o.status == Status::Ok && o.counters.events > 0)
+        .map(|a| a as f64 / o.counters.events as f64)
+}
+
 fn method_label(name: &str) -> String {
     Method::parse(name).map_or_else(|_| name.to_string(), |m| m.label())
 }
@@ -432,17 +447,20 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
          narrow-phase time-of-impact computations (not reported by the library's \
          structures); `peak RSS`: the largest resident memory of the cell's process \
          while the method ran, the scene itself included (reset after building the \
-         scene, read from `VmHWM`); `sim time`: the simulated time covered (the \
+         scene, read from `VmHWM`); `peak heap`: the largest number of live heap bytes \
+         the method added over those live when it started (the scene excluded; \
+         counted by `kss-bench`'s allocator, independent of the binary's layout); \
+         `allocs / event`: allocations (including reallocations) per event; `sim time`: the simulated time covered (the \
          scenario's `until`, or the first collision in `stop` mode); `events / sim s` \
          and `ns / event`: events per simulated second, and wall time per event.\n"
     );
     let _ = writeln!(
         s,
-        "| workload | method | status | wall | setup | collisions | events | certificates | pair tests | peak RSS (MiB) | sim time | events / sim s | ns / event |"
+        "| workload | method | status | wall | setup | collisions | events | certificates | pair tests | peak RSS (MiB) | peak heap (MiB) | allocs / event | sim time | events / sim s | ns / event |"
     );
     let _ = writeln!(
         s,
-        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for (w, _) in &workloads {
         for me in &methods {
@@ -452,7 +470,7 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
             let num = |x: u64| if ok { x.to_string() } else { String::new() };
             let _ = writeln!(
                 s,
-                "| {w} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {w} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 method_label(me),
                 o.status.text(),
                 if ok {
@@ -478,6 +496,8 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
                 o.peak_rss_kib
                     .filter(|_| ok)
                     .map_or(String::new(), |k| format!("{:.1}", k as f64 / 1024.0)),
+                peak_heap_mib(o).map_or(String::new(), |m| format!("{m:.1}")),
+                allocations_per_event(o).map_or(String::new(), |x| format!("{x:.1}")),
                 if ok && o.sim_seconds > 0.0 {
                     format_sig(o.sim_seconds)
                 } else {
@@ -1604,6 +1624,8 @@ mod tests {
                     ..Default::default()
                 },
                 peak_rss_kib: None,
+                peak_heap_bytes: None,
+                allocations: None,
                 build_seconds: None,
             },
             comparison: None,

@@ -90,6 +90,38 @@ fn bench_list_survives_a_closed_pipe() {
 }
 
 #[test]
+fn child_cells_report_their_heap_and_allocations() {
+    let dir = temp_dir();
+    let out = dir.join("run");
+    let o = run_bench(&[
+        "--quick",
+        "--methods",
+        "plain,parry-toi",
+        "--workload",
+        "flypast-n16-r1e1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(out.join("bench.json")).unwrap();
+    let run: kss_bench::harness::BenchRun = serde_json::from_value(
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()["run"].clone(),
+    )
+    .unwrap();
+    for m in ["plain", "parry-toi"] {
+        let c = run.cell("flypast-n16-r1e1", m).expect("the cell");
+        let heap = c.outcome.peak_heap_bytes.expect("a peak heap");
+        let allocations = c.outcome.allocations.expect("an allocation count");
+        // (each method builds something on the heap: the structure, the
+        // shapes)
+        assert!(heap > 0 && allocations > 0, "{m}: {heap} B, {allocations}");
+    }
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("| peak heap (MiB) | allocs / event |"), "{md}");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn bench_report_from_keeps_only_the_workloads_named() {
     // two tiny workloads with the reference alone, then a report of one
     let dir = temp_dir();

@@ -178,6 +178,8 @@ fn merged_runs_keep_the_later_cell() {
                 ..Default::default()
             },
             peak_rss_kib: None,
+            peak_heap_bytes: None,
+            allocations: None,
             build_seconds: None,
         },
         comparison: None,
