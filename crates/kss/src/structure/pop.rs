@@ -613,6 +613,20 @@ impl Kss {
             for i in 0..3 {
                 let (x, p, q) = (c[i], c[(i + 1) % 3], c[(i + 2) % 3]);
                 if let (Obj::Body(b), false, false) = (x.obj, p.is_omega(), q.is_omega()) {
+                    // (an edge that separates the side from the polygon,
+                    // looked for next to `x` first without listing the
+                    // ring; the ring only where none does)
+                    if separated_near(geo, (b, x), [p, q], tiv, &sign) {
+                        debug_assert!(
+                            ring_of(geo, b).contains(&x),
+                            "a triangle's corner {x:?} is not a visible vertex"
+                        );
+                        debug_assert!(
+                            !segment_crosses(geo, (&ring_of(geo, b), x), [p, q], tiv, &sign),
+                            "a side separated near its corner crosses the polygon"
+                        );
+                        continue;
+                    }
                     let at = match rings.iter().position(|r| r.0 == b) {
                         Some(at) => at,
                         None => {
@@ -708,6 +722,69 @@ fn ring_of(geo: &Geo, b: crate::world::BodyId) -> Ring {
     geo.ids(b).into_iter().map(|v| Att::vertex(b, v)).collect()
 }
 
+/// Turn `(a, b, c)` of three placed points: the midpoint–radius filter,
+/// else `sign`.
+fn placed_turn(
+    (a, ma): (Att, Option<MidRad>),
+    (b, mb): (Att, Option<MidRad>),
+    (c, mc): (Att, Option<MidRad>),
+    sign: &dyn Fn([Att; 3]) -> Sign,
+) -> Sign {
+    if let (Some(ma), Some(mb), Some(mc)) = (ma, mb, mc) {
+        super::counters::bump(super::counters::Counter::TurnsFiltered);
+        if let Some(s) = crate::geom::orient_mid_rad(ma, mb, mc) {
+            return s;
+        }
+    }
+    sign([a, b, c])
+}
+
+/// Whether an edge of body `b`'s polygon as seen has both ends of segment
+/// `pq` on its closed outer side, among the edges [`segment_crosses`] tries
+/// first: from the edges at `x` (a visible vertex of `b`) outwards,
+/// alternately counter-clockwise and clockwise, walked with
+/// [`Geo::ccw`]/[`Geo::cw`] instead of listing the ring, until every edge
+/// was tried (`false`) or one separates (`true`). The same edges in the same
+/// order as [`segment_crosses`]'s search, which a pop's check then skips.
+fn separated_near(
+    geo: &Geo,
+    (b, x): (crate::world::BodyId, Att),
+    [p, q]: [Att; 2],
+    t: crate::num::Interval,
+    sign: &dyn Fn([Att; 3]) -> Sign,
+) -> bool {
+    let m = match geo.shapes.approx(b) {
+        None => geo.world.body(b).shape.len(),
+        Some(ap) => ap.visible_len(),
+    };
+    let placed = |a: Att| (a, geo.mid_rad(a, t));
+    let (p, q) = (placed(p), placed(q));
+    let separates = |u: Att, w: Att| {
+        let (u, w) = (placed(u), placed(w));
+        placed_turn(u, w, p, sign) != Sign::Positive && placed_turn(u, w, q, sign) != Sign::Positive
+    };
+    // (the edges after `x` end at `ahead`, those before it start at
+    // `behind`)
+    let (mut ahead, mut behind) = (x, x);
+    for d in 0..m {
+        let found = if d % 2 == 0 {
+            let next = geo.ccw(ahead);
+            let s = separates(ahead, next);
+            ahead = next;
+            s
+        } else {
+            let prev = geo.cw(behind, 1);
+            let s = separates(prev, behind);
+            behind = prev;
+            s
+        };
+        if found {
+            return true;
+        }
+    }
+    false
+}
+
 /// Whether segment `pq` crosses the interior of the polygon `ring` (of the
 /// body whose vertex `x` is the triangle's corner opposite the segment):
 /// the polygon has vertices strictly on both sides of the segment's line,
@@ -722,17 +799,7 @@ fn segment_crosses(
 ) -> bool {
     let m = ring.len();
     let placed = |a: Att| (a, geo.mid_rad(a, t));
-    let tn = |(a, ma): (Att, Option<MidRad>),
-              (b, mb): (Att, Option<MidRad>),
-              (c, mc): (Att, Option<MidRad>)| {
-        if let (Some(ma), Some(mb), Some(mc)) = (ma, mb, mc) {
-            super::counters::bump(super::counters::Counter::TurnsFiltered);
-            if let Some(s) = crate::geom::orient_mid_rad(ma, mb, mc) {
-                return s;
-            }
-        }
-        sign([a, b, c])
-    };
+    let tn = |a, b, c| placed_turn(a, b, c, sign);
     let (p, q) = (placed(p), placed(q));
     // an edge line (counter-clockwise ring: outside is negative) with both
     // ends of the segment on its closed outer side: no crossing. Looked for
