@@ -421,33 +421,49 @@ impl Kinetic {
                     continue;
                 }
             }
-            let triples: Vec<[Att; 3]> = if c.b == Obj::Omega {
+            let rests = if c.b == Obj::Omega {
                 self.kss
                     .hull_turns(world, k)
-                    .into_iter()
-                    .map(|(p, _)| p)
-                    .collect()
+                    .iter()
+                    .any(|&([x, y, z], _)| meet(x, y) || meet(y, z) || meet(x, z))
             } else {
+                // (the points of a corridor between two bodies are theirs,
+                // and their boxes overlap: each pair across the two asked
+                // once, without the boxes)
                 let (a_s, b_s, a_t, b_t) = self.kss.ends(k);
-                let mut v = vec![[a_s, b_s, b_s], [a_t, b_t, b_t]];
+                let mut triples: arrayvec::ArrayVec<[Att; 3], 11> = arrayvec::ArrayVec::new();
+                triples.push([a_s, b_s, b_s]);
+                triples.push([a_t, b_t, b_t]);
                 if let Some((i, j)) = c.mid {
                     let (x, y) = (world.cw(a_s, i), world.cw(b_t, j));
-                    v.push([x, y, y]);
+                    triples.push([x, y, y]);
                 }
-                v.extend(
+                triples.extend(
                     self.kss
                         .junctions(world, k)
                         .into_iter()
                         .map(|j| [j.prev, j.v, j.next]),
                 );
-                v
+                let mut pairs: arrayvec::ArrayVec<(Att, Att), 33> = arrayvec::ArrayVec::new();
+                for &[x, y, z] in &triples {
+                    for (u, v) in [(x, y), (y, z), (x, z)] {
+                        let pair = (u.min(v), u.max(v));
+                        if u.obj != v.obj && !pairs.contains(&pair) {
+                            pairs.push(pair);
+                        }
+                    }
+                }
+                #[cfg(feature = "trace")]
+                if std::env::var_os("KSS_DUMP").is_some() {
+                    eprintln!("resting_now candidate {k:?}: {triples:?}");
+                }
+                pairs
+                    .iter()
+                    .any(|&(u, v)| crate::structure::faces::coincide_at(world, u, v, now))
             };
-            let rests = triples
-                .iter()
-                .any(|t| meet(t[0], t[1]) || meet(t[1], t[2]) || meet(t[0], t[2]));
             #[cfg(feature = "trace")]
             if std::env::var_os("KSS_DUMP").is_some() {
-                eprintln!("resting_now candidate {k:?}: {triples:?} -> {rests}");
+                eprintln!("resting_now candidate {k:?} -> {rests}");
             }
             if rests {
                 out.insert(k);
