@@ -989,7 +989,13 @@ impl<'a> Geo<'a> {
             let [x1, y1] = frame.velocity_enclosure();
             return Some([x0, x1, y0, y1]);
         }
-        let (b, at) = self.linear_key(a)?;
+        // (the key `linear_key` would find, from the predecessor found
+        // above)
+        let at = match ap.array.av_is_real(i, k) {
+            Some(v) => (u32::MAX, v as u32),
+            None => (i as u32, a.v),
+        };
+        debug_assert_eq!(self.linear_key(a), Some((b, at)), "the point's key");
         let e = self.linear_fresh(b, at)?;
         ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
         Some(e)
