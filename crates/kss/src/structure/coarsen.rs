@@ -162,11 +162,6 @@ impl Kss {
             }
         }
         let ap = shapes.approx(bid)?;
-        // a certificate still names `k`, or one on `q` fails at this
-        // instant: not now
-        if busy(kv, qv) {
-            return None;
-        }
         let kk = kv.v as usize;
         let (p, q) = (ap.exposed().pred(kk)?, ap.exposed().succ(kk)?);
         if q != qv.v as usize || ap.hidden(kk) || ap.hidden(p) || ap.hidden(q) {
@@ -175,14 +170,20 @@ impl Kss {
         if !ap.array.merge_ok(ap.exposed(), kk) {
             return None;
         }
+        // a certificate still names `k`, or one on `q` fails at this
+        // instant: not now (asked after the approximation's own tests,
+        // which turn down more candidates and read no certificate)
+        if busy(kv, qv) {
+            return None;
+        }
         // positions at `t`: A (id k), C (id q) now; Z (id q) after; the
         // triangle `big` is ACZ scaled by 2 about the midpoint m of AC (each
         // corner x becomes 2x − m). Its f64 enclosure first: a segment whose box
         // misses the triangle's box misses the triangle, and only the
         // others need the exact positions. (Merges happen at rational
-        // instants only; asked last, since it computes a deferred event
-        // time.)
-        let r = t.as_rational()?.clone();
+        // instants only. The instant's exact value is asked for only where
+        // exact positions are needed: it computes a deferred event time,
+        // and the filter answers the same at any instant.)
         let body = world.body(bid);
         let tiv = t.interval();
         let enc = |i: usize, j: usize| {
@@ -213,8 +214,9 @@ impl Kss {
             _ => None,
         };
         let exact_big = || -> Option<[Point; 3]> {
+            let r = t.as_rational()?;
             let at = |h: crate::hier::HomPoint| {
-                body.traj.position_at(&r).add(&h.to_point(body.shape.exp()))
+                body.traj.position_at(r).add(&h.to_point(body.shape.exp()))
             };
             let pa = at(ap.array.av(p, kk)?);
             let pc = at(ap.array.av(kk, q)?);
@@ -285,8 +287,8 @@ impl Kss {
                 if let (Some(d), Some(big), Some(pu), Some(pv)) = (
                     decided,
                     exact_big(),
-                    geo.position(u, &r),
-                    geo.position(v, &r),
+                    t.as_rational().and_then(|r| geo.position(u, r)),
+                    t.as_rational().and_then(|r| geo.position(v, r)),
                 ) {
                     assert_eq!(
                         d,
@@ -304,13 +306,23 @@ impl Kss {
                 exact = Some(exact_big()?);
             }
             let big = exact.as_ref().expect("computed above");
-            let (Some(pu), Some(pv)) = (geo.position(u, &r), geo.position(v, &r)) else {
+            let r = t.as_rational()?;
+            let (Some(pu), Some(pv)) = (geo.position(u, r), geo.position(v, r)) else {
                 return None;
             };
             if segment_meets_triangle(&pu, &pv, big) {
                 return None;
             }
         }
+        // (at a rational instant only: known so without computing a
+        // deferred instant where its certificate's degree tells)
+        if !t.known_rational() && t.as_rational().is_none() {
+            return None;
+        }
+        debug_assert!(
+            t.as_rational().is_some(),
+            "a merge at an irrational instant"
+        );
         // merge, re-measure the chain and check the faces just after `t`
         let saved = self.corrs[k.0 as usize].clone();
         let mid_before = c.mid;
