@@ -438,10 +438,15 @@ impl Kinetic {
             }
         }
         let kept: arrayvec::ArrayVec<CertId, MAX_CERTS> = same.iter().flatten().copied().collect();
-        // (the old list's buffer, read above, takes the new one)
-        let mut mine = old;
-        mine.clear();
-        mine.reserve(fresh.len());
+        // (the old list's buffer, read above, takes the new one where it is
+        // of the size needed: no allocation, and no more memory kept)
+        let mut mine = if old.capacity() == fresh.len() {
+            let mut old = old;
+            old.clear();
+            old
+        } else {
+            Vec::with_capacity(fresh.len())
+        };
         for (c, same) in fresh.into_iter().zip(same) {
             if let Some(id) = same {
                 mine.push(id);
