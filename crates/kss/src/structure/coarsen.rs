@@ -272,10 +272,16 @@ impl Kss {
                 segs.push((other, other));
             }
         }
+        // (a chain's segments share their ends: each end enclosed once)
+        let mut last: Option<(Att, Option<[Interval; 2]>)> = None;
         for (u, v) in segs {
-            if let (Some((bb, tri)), Some(eu), Some(ev)) =
-                (big_box, geo.enclose(u, tiv), geo.enclose(v, tiv))
-            {
+            let eu = match last {
+                Some((x, e)) if x == u => e,
+                _ => geo.enclose(u, tiv),
+            };
+            let ev = geo.enclose(v, tiv);
+            last = Some((v, ev));
+            if let (Some((bb, tri)), Some(eu), Some(ev)) = (big_box, eu, ev) {
                 let apart =
                     |d: usize| eu[d].hi.max(ev[d].hi) < bb[d].0 || eu[d].lo.min(ev[d].lo) > bb[d].1;
                 if apart(0) || apart(1) {
@@ -315,8 +321,12 @@ impl Kss {
             }
         }
         // (at a rational instant only: known so without computing a
-        // deferred instant where its certificate's degree tells)
-        if !t.known_rational() && t.as_rational().is_none() {
+        // deferred instant where its certificate's degree tells; an
+        // instant that only its computation would tell is let pass, as
+        // one known irrational is: a merge is never needed, and most such
+        // instants, roots of certificates over three bodies, are
+        // irrational)
+        if !t.known_rational() && (t.is_pending() || t.as_rational().is_none()) {
             return None;
         }
         debug_assert!(
