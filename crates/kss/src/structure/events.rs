@@ -295,8 +295,14 @@ pub fn real_touch_excluded(
         t.as_rational()?;
     }
     debug_assert!(t.as_rational().is_some(), "a time known rational is not");
-    let pts = p.map(|a| world.point(a));
-    let turn_zero = || orient_poly(&pts[0], &pts[1], &pts[2]).sign_at(t) == Sign::Zero;
+    // (the exact moving points, made only where a filter below does not
+    // decide)
+    let exact = std::cell::OnceCell::new();
+    let pts = || exact.get_or_init(|| p.map(|a| world.point(a)));
+    let turn_zero = || {
+        let pts = pts();
+        orient_poly(&pts[0], &pts[1], &pts[2]).sign_at(t) == Sign::Zero
+    };
     debug_assert!(!zero || turn_zero(), "the turn of {p:?} is not zero");
     if !zero && !turn_zero() {
         return None;
@@ -306,7 +312,10 @@ pub fn real_touch_excluded(
     let strictly_between = |m: usize, a: usize, b: usize| {
         let s = world
             .dot_filtered(p[a], p[m], p[b], tiv)
-            .unwrap_or_else(|| dot_poly(&pts[m], &pts[a], &pts[b]).sign_at(t));
+            .unwrap_or_else(|| {
+                let pts = pts();
+                dot_poly(&pts[m], &pts[a], &pts[b]).sign_at(t)
+            });
         s == Sign::Negative
     };
     let m = (0..3).find(|&m| strictly_between(m, (m + 1) % 3, (m + 2) % 3))?;
@@ -328,15 +337,18 @@ pub fn real_touch_excluded(
     };
     let ap = world.shapes.approx(v)?;
     world.shapes.approx(u)?;
-    let (px, py) = (&pts[(m + 1) % 3], &pts[(m + 2) % 3]);
     // `w` alone on the line among its approximation's vertices (a turn the
     // filter decides is not zero)
     for nb in [world.ccw(w), world.cw(w, 1)] {
         let off = world
             .orient_filtered(p[(m + 1) % 3], p[(m + 2) % 3], nb, tiv)
             .is_some();
-        if !off && orient_poly(px, py, &world.point(nb)).sign_at(t) == Sign::Zero {
-            return None;
+        if !off {
+            let pts = pts();
+            let (px, py) = (&pts[(m + 1) % 3], &pts[(m + 2) % 3]);
+            if orient_poly(px, py, &world.point(nb)).sign_at(t) == Sign::Zero {
+                return None;
+            }
         }
     }
     let apart = Some((u, v));
@@ -351,7 +363,7 @@ pub fn real_touch_excluded(
         ap.array.base_vertex_of_entry_end(k),
     );
     let (s0, s1) = (body.vertex(i0), body.vertex(i1));
-    let wp = &pts[m];
+    let wp = &pts()[m];
     // (w − a)·(b − a) < 0: w beyond a, away from b
     let outside = |a: &crate::motion::LinearPoint, b: &crate::motion::LinearPoint| {
         dot_poly(a, wp, b).sign_at(t) == Sign::Negative
