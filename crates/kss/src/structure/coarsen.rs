@@ -182,8 +182,8 @@ impl Kss {
         // misses the triangle's box misses the triangle, and only the
         // others need the exact positions. (Merges happen at rational
         // instants only. The instant's exact value is asked for only where
-        // exact positions are needed: it computes a deferred event time,
-        // and the filter answers the same at any instant.)
+        // exact positions are needed, since asking computes a deferred
+        // event time; the filter needs only the instant's enclosure.)
         let body = world.body(bid);
         let tiv = t.interval();
         let enc = |i: usize, j: usize| {
@@ -320,12 +320,12 @@ impl Kss {
                 return None;
             }
         }
-        // (at a rational instant only: known so without computing a
-        // deferred instant where its certificate's degree tells; an
-        // instant that only its computation would tell is let pass, as
-        // one known irrational is: a merge is never needed, and most such
-        // instants, roots of certificates over three bodies, are
-        // irrational)
+        // (at a rational instant only. Where a deferred instant's
+        // certificate tells it rational by its degree, that is known
+        // without computing it; an instant that only computing it would
+        // tell is passed over like an irrational one: a merge is never
+        // needed, and such instants, roots of certificates over three
+        // bodies, are mostly irrational)
         if !t.known_rational() && (t.is_pending() || t.as_rational().is_none()) {
             return None;
         }
