@@ -10,8 +10,8 @@
 //! (held by every method alike) included. The child also counts its heap
 //! ([`crate::heap`]): the largest number of live heap bytes the method
 //! added over those live when it started (so the scene excluded), and its
-//! allocations; these depend only on the code run, not on the binary's
-//! layout or the system allocator's mappings. With [`Executor::InProcess`]
+//! allocations; these depend on the code run, not on the binary's layout
+//! or the system allocator's mappings. With [`Executor::InProcess`]
 //! (tests) the budget is only checked cooperatively by the baselines and no
 //! memory is reported.
 //!
