@@ -616,15 +616,7 @@ impl Kss {
                     // (an edge that separates the side from the polygon,
                     // looked for next to `x` first without listing the
                     // ring; the ring only where none does)
-                    if separated_near(geo, (b, x), [p, q], tiv, &sign) {
-                        debug_assert!(
-                            ring_of(geo, b).contains(&x),
-                            "a triangle's corner {x:?} is not a visible vertex"
-                        );
-                        debug_assert!(
-                            !segment_crosses(geo, (&ring_of(geo, b), x), [p, q], tiv, &sign),
-                            "a side separated near its corner crosses the polygon"
-                        );
+                    if separated(geo, (b, x), [p, q], tiv, &sign) {
                         continue;
                     }
                     let at = match rings.iter().position(|r| r.0 == b) {
@@ -634,7 +626,7 @@ impl Kss {
                             rings.len() - 1
                         }
                     };
-                    if segment_crosses(geo, (&rings[at].1, x), [p, q], tiv, &sign) {
+                    if line_splits(geo, &rings[at].1, [p, q], tiv, &sign) {
                         #[cfg(feature = "trace")]
                         eprintln!("  triangle {}: side {p:?}-{q:?} crosses body {}", ti.0, b.0);
                         return false;
@@ -739,14 +731,15 @@ fn placed_turn(
     sign([a, b, c])
 }
 
-/// Whether an edge of body `b`'s polygon as seen has both ends of segment
-/// `pq` on its closed outer side, among the edges [`segment_crosses`] tries
-/// first: from the edges at `x` (a visible vertex of `b`) outwards,
-/// alternately counter-clockwise and clockwise, walked with
-/// [`Geo::ccw`]/[`Geo::cw`] instead of listing the ring, until every edge
-/// was tried (`false`) or one separates (`true`). The same edges in the same
-/// order as [`segment_crosses`]'s search, which a pop's check then skips.
-fn separated_near(
+/// Whether an edge of body `b`'s polygon as seen (counter-clockwise:
+/// outside is negative) has both ends of segment `pq` on its closed outer
+/// side: then `pq` does not cross the polygon. The edges are tried from
+/// those at `x` (a visible vertex of `b`, the triangle's corner facing the
+/// segment, where a separating edge almost always is) outwards, alternately
+/// counter-clockwise and clockwise, walked with [`Geo::ccw`]/[`Geo::cw`]
+/// instead of listing the ring; `false` once every edge was tried. Turns
+/// go through the midpoint–radius filter first, then `sign`.
+fn separated(
     geo: &Geo,
     (b, x): (crate::world::BodyId, Att),
     [p, q]: [Att; 2],
@@ -757,6 +750,13 @@ fn separated_near(
         None => geo.world.body(b).shape.len(),
         Some(ap) => ap.visible_len(),
     };
+    debug_assert!(
+        {
+            let ring = ring_of(geo, b);
+            ring.len() == m && ring.contains(&x)
+        },
+        "a triangle's corner {x:?} is not one of the {m} visible vertices"
+    );
     let placed = |a: Att| (a, geo.mid_rad(a, t));
     let (p, q) = (placed(p), placed(q));
     let separates = |u: Att, w: Att| {
@@ -785,44 +785,22 @@ fn separated_near(
     false
 }
 
-/// Whether segment `pq` crosses the interior of the polygon `ring` (of the
-/// body whose vertex `x` is the triangle's corner opposite the segment):
-/// the polygon has vertices strictly on both sides of the segment's line,
-/// and no edge line has both ends of the segment on its closed outer side.
-/// Turns go through the midpoint–radius filter first, then `sign`.
-fn segment_crosses(
+/// Whether the polygon `ring` has vertices strictly on both sides of the
+/// line of segment `pq`: where no edge separates them ([`separated`]),
+/// whether `pq` crosses the polygon's interior. Turns go through the
+/// midpoint–radius filter first, then `sign`.
+fn line_splits(
     geo: &Geo,
-    (ring, x): (&Ring, Att),
+    ring: &Ring,
     [p, q]: [Att; 2],
     t: crate::num::Interval,
     sign: &dyn Fn([Att; 3]) -> Sign,
 ) -> bool {
-    let m = ring.len();
     let placed = |a: Att| (a, geo.mid_rad(a, t));
-    let tn = |a, b, c| placed_turn(a, b, c, sign);
     let (p, q) = (placed(p), placed(q));
-    // an edge line (counter-clockwise ring: outside is negative) with both
-    // ends of the segment on its closed outer side: no crossing. Looked for
-    // first, from the edges at `x` (the triangle's corner on the body,
-    // facing the segment) outwards, where one almost always is
-    let at = ring.iter().position(|&v| v == x).unwrap_or(0);
-    let separating = (0..m)
-        .map(|d| {
-            // d = 0, 1, 2, 3, …: the edges at `at`, alternately after and before
-            let off = if d % 2 == 0 { d / 2 } else { m - 1 - d / 2 };
-            (at + off) % m
-        })
-        .any(|j| {
-            let (u, w) = (placed(ring[j]), placed(ring[(j + 1) % m]));
-            tn(u, w, p) != Sign::Positive && tn(u, w, q) != Sign::Positive
-        });
-    if separating {
-        return false;
-    }
-    // the segment's line: the body on one closed side
     let (mut pos, mut neg) = (false, false);
     for &v in ring {
-        match tn(p, q, placed(v)) {
+        match placed_turn(p, q, placed(v), sign) {
             Sign::Positive => pos = true,
             Sign::Negative => neg = true,
             Sign::Zero => {}
