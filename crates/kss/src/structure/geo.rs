@@ -544,6 +544,16 @@ impl Approx {
         }
     }
 
+    /// Which body-frame point exposed id `k`, after exposed id `i`, is:
+    /// `(u32::MAX, v)` for real vertex `v`, else `(i, k)` for the
+    /// approximation vertex `av(i, k)` (the key of [`Geo::linear_key`]).
+    fn point_of(&self, i: usize, k: usize) -> (u32, u32) {
+        match self.array.av_is_real(i, k) {
+            Some(v) => (u32::MAX, v as u32),
+            None => (i as u32, k as u32),
+        }
+    }
+
     /// Whether exposed id `k` is in the list of hidden ids.
     #[inline]
     fn listed_hidden(&self, k: usize) -> bool {
@@ -991,10 +1001,7 @@ impl<'a> Geo<'a> {
         }
         // (the key `linear_key` would find, from the predecessor found
         // above)
-        let at = match ap.array.av_is_real(i, k) {
-            Some(v) => (u32::MAX, v as u32),
-            None => (i as u32, a.v),
-        };
+        let at = ap.point_of(i, k);
         debug_assert_eq!(self.linear_key(a), Some((b, at)), "the point's key");
         let e = self.linear_fresh(b, at)?;
         ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
@@ -1025,11 +1032,7 @@ impl<'a> Geo<'a> {
                 if !ap.exposed.contains(k) {
                     return None;
                 }
-                let i = ap.exposed.pred(k)?;
-                match ap.array.av_is_real(i, k) {
-                    Some(v) => (u32::MAX, v as u32),
-                    None => (i as u32, a.v),
-                }
+                ap.point_of(ap.exposed.pred(k)?, k)
             }
         };
         Some((b, key))
