@@ -103,11 +103,7 @@ fn child_cells_report_their_heap_and_allocations() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let text = std::fs::read_to_string(out.join("bench.json")).unwrap();
-    let run: kss_bench::harness::BenchRun = serde_json::from_value(
-        serde_json::from_str::<serde_json::Value>(&text).unwrap()["run"].clone(),
-    )
-    .unwrap();
+    let (run, _) = kss_bench::report::read_runs(&[out.join("bench.json")]).unwrap();
     for m in ["plain", "parry-toi"] {
         let c = run.cell("flypast-n16-r1e1", m).expect("the cell");
         let heap = c.outcome.peak_heap_bytes.expect("a peak heap");
