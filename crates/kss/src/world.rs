@@ -289,6 +289,30 @@ type ContactKey = (BodyId, BodyId, u64, u64, Rational);
 #[derive(Debug, Default)]
 struct ContactMemo(std::sync::Mutex<Option<(ContactKey, Option<ContactGeometry>)>>);
 
+impl ContactMemo {
+    /// Body `id` took frame `new` in place of `old` at instant `t`, its
+    /// position at `t` unchanged (a motion change keeps the position
+    /// continuous): a contact at `t` depends only on the positions at `t`
+    /// and the shapes, so the entry of `t` holds under the new frame too
+    /// (the response's own check of the pair finds it).
+    fn moved(&self, id: BodyId, old: u64, new: u64, t: &Rational) {
+        let mut memo = self
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(((ka, kb, ua, ub, kt), _)) = memo.as_mut() {
+            if kt == t {
+                if *ka == id && *ua == old {
+                    *ua = new;
+                }
+                if *kb == id && *ub == old {
+                    *ub = new;
+                }
+            }
+        }
+    }
+}
+
 impl Clone for ContactMemo {
     fn clone(&self) -> ContactMemo {
         ContactMemo::default()
@@ -604,7 +628,10 @@ impl World {
                 // (the bridge, unchanged since it was set, ends at `q`)
                 debug_assert_eq!(body.traj.position_at(&tr), *q);
                 let traj = Trajectory::through(&tr, q, c.velocity);
+                let old = body.frame.uid();
                 body.set_traj(traj);
+                let new = body.frame.uid();
+                self.last_contact.moved(c.body, old, new, &tr);
             } else {
                 let v = c.velocity;
                 self.set_velocity(c.body, &tr, v, None);
@@ -723,6 +750,24 @@ impl World {
     /// continuous; uses a bridge when the position or time is not dyadic
     /// (module docs). `away` is the direction to round the anchor towards.
     fn set_velocity(&mut self, id: BodyId, t: &Rational, v: Point, away: Option<&[Rational; 2]>) {
+        let old = self.bodies[id.index()].frame.uid();
+        #[cfg(debug_assertions)]
+        let before = self.bodies[id.index()].traj.position_at(t);
+        self.set_velocity_frame(id, t, v, away);
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(self.bodies[id.index()].traj.position_at(t), before);
+        let new = self.bodies[id.index()].frame.uid();
+        self.last_contact.moved(id, old, new, t);
+    }
+
+    /// [`World::set_velocity`] but for the contact memo.
+    fn set_velocity_frame(
+        &mut self,
+        id: BodyId,
+        t: &Rational,
+        v: Point,
+        away: Option<&[Rational; 2]>,
+    ) {
         let body = &mut self.bodies[id.index()];
         body.anchor = None;
         if t.is_dyadic() {
@@ -1709,6 +1754,51 @@ mod tests {
         w.hint_contact(&one, (tri, 0), (sq, 1));
         assert!(w.contact_hinted(sq, tri, &one).is_none());
         assert!(w.contact_pass(sq, tri, &one).expect("touch").features.len() > 1);
+    }
+
+    /// A contact asked at an instant and again after a response there (new
+    /// frames, the positions at the instant unchanged) comes from the memo,
+    /// whose entry names the new frames, and is the contact computed
+    /// afresh; at a dyadic instant and at one where the response takes a
+    /// bridge.
+    #[test]
+    fn a_contact_asked_again_after_a_response_at_its_instant_is_the_memos() {
+        let (a, b) = (BodyId(0), BodyId(1));
+        let third = Rational::new(Int::from(4), Int::from(3));
+        for (v, t) in [(1.0, Rational::from_int(Int::from(1))), (0.75, third)] {
+            let s = Scenario {
+                until: 4.0,
+                on_collision: CollisionMode::Bounce,
+                polygons: vec![square("a", 1.0, -2.0, v), square("b", 1.0, 1.0, -v)],
+                ..Default::default()
+            };
+            let mut w = bodies(&s);
+            let before = w.contact(a, b, &t).expect("they touch");
+            let frames = |w: &World| (w.body(a).frame.uid(), w.body(b).frame.uid());
+            let old = frames(&w);
+            assert_eq!(w.bounce(&t, &[(a, b)]), vec![a, b]);
+            assert_ne!(frames(&w), old);
+            let key = w
+                .last_contact
+                .0
+                .lock()
+                .expect("one thread")
+                .as_ref()
+                .map(|(k, _)| (k.2, k.3));
+            assert_eq!(key, Some(frames(&w)), "v = {v}");
+            let after = w.contact(a, b, &t).expect("they touch");
+            let fresh = w.contact_fresh(a, b, &t).expect("they touch");
+            let parts = |c: &ContactGeometry| {
+                (
+                    c.normal.clone(),
+                    c.edge_normals.clone(),
+                    c.features.clone(),
+                    c.single,
+                )
+            };
+            assert_eq!(parts(&after), parts(&fresh), "v = {v}");
+            assert_eq!(parts(&after), parts(&before), "v = {v}");
+        }
     }
 
     /// Two equal squares head-on swap their velocities, at the unit scale
