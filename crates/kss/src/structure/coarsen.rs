@@ -338,7 +338,7 @@ impl Kss {
         let mid_before = c.mid;
         {
             let ap = shapes.per[bid.index()].as_mut()?;
-            if !ap.merge(kk) {
+            if !ap.merge(kk, &world.body(bid).shape) {
                 return None;
             }
         }

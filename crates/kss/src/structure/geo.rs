@@ -529,12 +529,75 @@ impl Approx {
     }
 
     /// Merge id `k` away if [`EdgeArray::merge_ok`]; whether it did.
-    pub fn merge(&mut self, k: usize) -> bool {
+    /// `body` is the polygon approximated: a box of the vertices kept for
+    /// [`Geo::loose_box`] takes in the merge's new vertices.
+    pub fn merge(&mut self, k: usize, body: &crate::geom::BodyPolygon) -> bool {
+        let before = self.exposed.last_removal();
+        let neighbours = (self.exposed.pred(k), self.exposed.succ(k));
         let merged = self.array.merge(&mut self.exposed, k);
         if merged {
             self.sync_hidden(k);
+            self.grow_grid_box(before, neighbours, body);
         }
         merged
+    }
+
+    /// A box of its visible vertices' enclosures in the grid of `body` (the
+    /// polygon approximated), computed afresh; `None` where an enclosure is
+    /// not finite.
+    pub fn vertices_grid_box(&self, body: &crate::geom::BodyPolygon) -> Option<[Interval; 2]> {
+        let mut out: Option<[Interval; 2]> = None;
+        let mut failed = false;
+        // (the visible vertices in one pass, each `av(i, k)` with the
+        // exposed id `i` before it, as `vertex_enclose` reads it)
+        self.each_visible(|k, i| {
+            let e = match self.array.av_is_real(i, k) {
+                Some(v) => Some(body.int_vertex_enclosure(v)),
+                None => self.array.av_enclose(i, k),
+            };
+            debug_assert_eq!(e, self.array.vertex_enclose(body, &self.exposed, k));
+            match e {
+                Some(e) => {
+                    out = Some(match out {
+                        None => e,
+                        Some(o) => [o[0].hull(&e[0]), o[1].hull(&e[1])],
+                    })
+                }
+                None => failed = true,
+            }
+        });
+        if failed {
+            None
+        } else {
+            out
+        }
+    }
+
+    /// After a merge of the id between `p` and `q` (exposed set's
+    /// [`Exposed::last_removal`] `before` it): the approximation grew by a
+    /// triangle whose only new vertex is `q`'s (`p`'s is kept, but may have
+    /// become visible), so the box of its vertices in the grid (if it was
+    /// that of `before`) with those two vertices' enclosures is a box of
+    /// them all, looser than one computed afresh (it keeps the vertices
+    /// merged away), and valid for the new set.
+    fn grow_grid_box(
+        &self,
+        before: u64,
+        (p, q): (Option<usize>, Option<usize>),
+        body: &crate::geom::BodyPolygon,
+    ) {
+        let grown = match (self.grid_box.get(), p, q) {
+            (Some((v, g)), Some(p), Some(q)) if v == before => [p, q]
+                .into_iter()
+                .filter(|&x| !self.hidden(x))
+                .try_fold(g, |g, x| {
+                    let e = self.array.vertex_enclose(body, &self.exposed, x)?;
+                    Some([g[0].hull(&e[0]), g[1].hull(&e[1])])
+                }),
+            _ => None,
+        };
+        self.grid_box
+            .set(grown.map(|g| (self.exposed.last_removal(), g)));
     }
 
     /// Put back id `k`, merged away just before (a merge taken back).
@@ -1172,35 +1235,13 @@ impl<'a> Geo<'a> {
         let version = ap.exposed.last_removal();
         let grid = match ap.grid_box.get() {
             Some((v, g)) if v == version => g,
-            _ => {
-                let body = &self.world.body(b).shape;
-                let mut out: Option<[Interval; 2]> = None;
-                let mut failed = false;
-                // (the visible vertices in one pass, each `av(i, k)` with
-                // the exposed id `i` before it, as `vertex_enclose` reads it)
-                ap.each_visible(|k, i| {
-                    let e = match ap.array.av_is_real(i, k) {
-                        Some(v) => Some(body.int_vertex_enclosure(v)),
-                        None => ap.array.av_enclose(i, k),
-                    };
-                    debug_assert_eq!(e, ap.array.vertex_enclose(body, &ap.exposed, k));
-                    match e {
-                        Some(e) => {
-                            out = Some(match out {
-                                None => e,
-                                Some(o) => [o[0].hull(&e[0]), o[1].hull(&e[1])],
-                            })
-                        }
-                        None => failed = true,
-                    }
-                });
-                if failed {
-                    return self.seen_box(b, t);
+            _ => match ap.vertices_grid_box(&self.world.body(b).shape) {
+                Some(g) => {
+                    ap.grid_box.set(Some((version, g)));
+                    g
                 }
-                let g = out?;
-                ap.grid_box.set(Some((version, g)));
-                g
-            }
+                None => return self.seen_box(b, t),
+            },
         };
         let [x, y] = self.world.body(b).frame.enclose(grid[0], grid[1], t);
         let out = [x, y]
@@ -1349,7 +1390,8 @@ mod tests {
     /// `Approx::cw`, `Approx::cw_distance` and the visible ranks agree with
     /// walks of `Approx::prev_visible` over the exposed set, for every id,
     /// as pops and merges change the approximation of a 37-gon (whose edge
-    /// array repeats edges: ids that become hidden).
+    /// array repeats edges: ids that become hidden); each merge grows the
+    /// box kept for `Geo::loose_box` to hold the new approximation.
     #[test]
     fn walks_round_an_approximation_are_ranks_in_its_visible_set() {
         let pts = crate::gen::regular_polygon(37, 100.0, 0.1);
@@ -1407,14 +1449,27 @@ mod tests {
         }
         assert!(popped.len() > 10, "only {} pops", popped.len());
         assert!(hidden > 0, "no id was hidden");
+        // (the box kept for `Geo::loose_box`, set here as it computes it)
+        let fresh = |ap: &Approx| ap.vertices_grid_box(&body).expect("finite");
+        ap.grid_box
+            .set(Some((ap.exposed().last_removal(), fresh(&ap))));
+        let mut merges = 0;
         for &t in popped.iter().rev() {
-            if ap.merge(t) {
+            if ap.merge(t, &body) {
+                merges += 1;
+                // a merge grows the kept box to hold the new vertices
+                let (v, kept) = ap.grid_box.get().expect("grown, not dropped");
+                assert_eq!(v, ap.exposed().last_removal());
+                let now = fresh(&ap);
+                let holds = |o: Interval, s: Interval| o.lo <= s.lo && s.hi <= o.hi;
+                assert!(holds(kept[0], now[0]) && holds(kept[1], now[1]));
                 check(&ap);
                 ap.unmerge(t);
                 check(&ap);
-                assert!(ap.merge(t));
+                assert!(ap.merge(t, &body));
                 check(&ap);
             }
         }
+        assert!(merges > 10, "only {merges} merges");
     }
 }
