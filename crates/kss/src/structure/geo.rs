@@ -1057,18 +1057,74 @@ impl<'a> Geo<'a> {
             return None;
         }
         let i = ap.exposed.pred(k)?;
-        let ki = (a.v, i as u32);
+        self.approx_linear(b, ap, frame, k, i)
+    }
+
+    /// [`Geo::enclose_linear`] of exposed id `k` of body `b`'s
+    /// approximation `ap` (moving by `frame`), `i` the exposed id before
+    /// it: from the memo, else computed and kept.
+    #[inline(always)]
+    fn approx_linear(
+        &self,
+        b: BodyId,
+        ap: &Approx,
+        frame: &Frame,
+        k: usize,
+        i: usize,
+    ) -> Option<[Interval; 4]> {
+        let ki = (k as u32, i as u32);
         if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki) {
             let [x1, y1] = frame.velocity_enclosure();
             return Some([x0, x1, y0, y1]);
         }
-        // (the key `linear_key` would find, from the predecessor found
-        // above)
+        // (the key `linear_key` would find, from the predecessor given)
         let at = ap.point_of(i, k);
-        debug_assert_eq!(self.linear_key(a), Some((b, at)), "the point's key");
+        debug_assert_eq!(
+            self.linear_key(Att::vertex(b, k as u32)),
+            Some((b, at)),
+            "the point's key"
+        );
         let e = self.linear_fresh(b, at)?;
         ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
         Some(e)
+    }
+
+    /// The vertices of body `b` as it is seen ([`Geo::ids`], in that
+    /// order) with their positions at a time in `t` ([`Geo::mid_rad`]'s
+    /// values; `None` each without `t`): one pass round the approximation,
+    /// each vertex's exposed predecessor at hand where the point cache
+    /// misses.
+    pub fn placed_ring(&self, b: BodyId, t: Option<Interval>) -> (Vec<Att>, Vec<Option<MidRad>>) {
+        let body = self.world.body(b);
+        let Some(ap) = self.shapes.approx(b) else {
+            let n = body.shape.len();
+            let ring: Vec<Att> = (0..n as u32).map(|v| Att::vertex(b, v)).collect();
+            let places = match t {
+                Some(t) => {
+                    let tm = crate::geom::TimeMidRad::of(t);
+                    let vs = body.shape.f64_vertices();
+                    (0..n)
+                        .map(|v| body.frame.mid_rad_of_vertex(vs[v], tm))
+                        .collect()
+                }
+                None => vec![None; n],
+            };
+            return (ring, places);
+        };
+        let mut ring = Vec::with_capacity(ap.exposed.len());
+        let mut places = Vec::with_capacity(ap.exposed.len());
+        ap.each_visible(|k, i| {
+            let x = Att::vertex(b, k as u32);
+            ring.push(x);
+            places.push(t.and_then(|t| {
+                self.mid_rad_cached(x, t, || self.approx_linear(b, ap, &body.frame, k, i))
+            }));
+        });
+        #[cfg(debug_assertions)]
+        for (&x, &m) in ring.iter().zip(&places) {
+            debug_assert_eq!(m, t.and_then(|t| self.mid_rad(x, t)), "{x:?}");
+        }
+        (ring, places)
     }
 
     /// What point `a` is: its body's [`Frame::uid`] and its body-frame
@@ -1174,6 +1230,20 @@ impl<'a> Geo<'a> {
                 .frame
                 .mid_rad_of_vertex(v, crate::geom::TimeMidRad::of(t));
         }
+        self.mid_rad_cached(a, t, || self.enclose_linear(a))
+    }
+
+    /// [`Geo::mid_rad`] of approximation vertex `a` through the point cache,
+    /// with `linear` its [`Geo::enclose_linear`] where the cache misses.
+    fn mid_rad_cached(
+        &self,
+        a: Att,
+        t: Interval,
+        linear: impl FnOnce() -> Option<[Interval; 4]>,
+    ) -> Option<MidRad> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
         let [version, uid] = self.view_words(b);
         let id = a.word();
         let key = [id, uid, version, t.lo.to_bits(), t.hi.to_bits()];
@@ -1192,7 +1262,7 @@ impl<'a> Geo<'a> {
             );
             return m;
         }
-        let m = self.enclose_linear(a).and_then(|l| MidRad::at(l, t));
+        let m = linear().and_then(|l| MidRad::at(l, t));
         cell.set((key, m));
         m
     }

@@ -65,20 +65,6 @@ pub fn pop(shapes: &mut Shapes, a: Att) -> bool {
     }
 }
 
-/// The vertices of body `x` as seen through its approximation, in order.
-fn ring(geo: &Geo, x: BodyId) -> Vec<Att> {
-    geo.ids(x).into_iter().map(|v| Att::vertex(x, v)).collect()
-}
-
-/// The points of `ring` placed in f64 at a time in `at` ([`Geo::mid_rad`]),
-/// once for the many turns of the refinement's tests (`None` each without
-/// `at`, or where a value is not finite).
-fn places(geo: &Geo, ring: &[Att], at: Option<Interval>) -> Vec<Option<MidRad>> {
-    ring.iter()
-        .map(|&x| at.and_then(|t| geo.mid_rad(x, t)))
-        .collect()
-}
-
 /// Whether `w`, collinear with `u` and `v` just after `t`, lies on the
 /// closed segment `uv` just after `t` (filtered, then exact).
 fn on_segment_after(geo: &Geo, u: Att, v: Att, w: Att, t: &Time) -> bool {
@@ -109,11 +95,11 @@ fn involved(
     sign: &dyn Fn(Att, Att, Att) -> Sign,
     on_segment: Option<&dyn Fn(Att, Att, Att) -> bool>,
 ) -> Option<Vec<Att>> {
-    let (pa, pb) = (ring(geo, a), ring(geo, b));
+    // (the vertices of each body as seen, in order; with `at`, placed once
+    // in f64: a turn the filter decides there is the sign at and just
+    // after the instant)
+    let ((pa, ma), (pb, mb)) = (geo.placed_ring(a, at), geo.placed_ring(b, at));
     let real = |x: Att| geo.is_real(x);
-    // (with `at`, each ring's points placed once in f64: a turn the filter
-    // decides there is the sign at and just after the instant)
-    let (ma, mb) = (places(geo, &pa, at), places(geo, &pb, at));
     let turn = |(p, mp): (&[Att], &[Option<MidRad>]),
                 i: usize,
                 j: usize,
@@ -275,12 +261,12 @@ pub fn unslide_after(
     let mut pops = 0;
     loop {
         let geo = Geo { world, shapes };
-        let (pa, pb) = (ring(&geo, a), ring(&geo, b));
         let at = Some(t.interval());
+        let ((pa, ma), (pb, mb)) = (geo.placed_ring(a, at), geo.placed_ring(b, at));
         let todo = sliding(
             &geo,
-            (&pa, &places(&geo, &pa, at)),
-            (&pb, &places(&geo, &pb, at)),
+            (&pa, &ma),
+            (&pb, &mb),
             &|u, v, w| turn_after(&geo, u, v, w, t),
             &|u, v, w| on_segment_after(&geo, u, v, w, t),
         );
