@@ -234,22 +234,26 @@ const ORDER_SEED: u64 = 0x006b_7373_5f63_6474;
 /// large polygons facing each other across a gap cost a number of flips in
 /// the square of their count.
 fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
-    let mut sorted: Vec<usize> = (0..n).collect();
-    sorted.sort_by(|&a, &b| p.cmp(a, b));
-    for w in sorted.windows(2) {
-        if p.cmp(w[0], w[1]) == Ordering::Equal {
-            return Err(CdtError::Coincident(w[0], w[1]));
-        }
-    }
+    // (two vertices that coincide are found as they are inserted, where the
+    // walk ends at a corner; only where none is off the first two's line
+    // are they looked for here, so that coincident vertices are reported
+    // as such rather than as collinear ones)
+    let collinear = || match coincident(n, p) {
+        Some((a, b)) => CdtError::Coincident(a, b),
+        None => CdtError::Collinear,
+    };
     if n < 3 {
-        return Err(CdtError::Collinear);
+        return Err(collinear());
     }
     let order = insertion_order(n, p);
     // the first triangle: the first two vertices and the first one off
     // their line
     let (a0, b0) = (order[0], order[1]);
+    if p.cmp(a0, b0) == Ordering::Equal {
+        return Err(CdtError::Coincident(a0, b0));
+    }
     let Some(k) = (2..n).find(|&k| p.orient(a0, b0, order[k]) != Sign::Zero) else {
-        return Err(CdtError::Collinear);
+        return Err(collinear());
     };
     let c0 = order[k];
     let first = if p.orient(a0, b0, c0) == Sign::Positive {
@@ -294,6 +298,17 @@ fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
         hint = mesh.at[v];
     }
     Ok(mesh)
+}
+
+/// Two of the `n` vertices that coincide, if any (neighbours in the
+/// lexicographic order).
+fn coincident(n: usize, p: &impl Predicates) -> Option<(usize, usize)> {
+    let mut sorted: Vec<usize> = (0..n).collect();
+    sorted.sort_by(|&a, &b| p.cmp(a, b));
+    sorted
+        .windows(2)
+        .find(|w| p.cmp(w[0], w[1]) == Ordering::Equal)
+        .map(|w| (w[0], w[1]))
 }
 
 /// The convex hull as a cycle of vertices (`NONE` for the others).
@@ -942,6 +957,25 @@ mod tests {
             triangulate(4, &[], &p),
             Err(CdtError::Coincident(_, _))
         ));
+        // coincident vertices are reported as such wherever they come in
+        // the insertion order: all collinear, two alone, or among many
+        let p = Ints(vec![[0, 0], [1, 1], [2, 2], [1, 1]]);
+        assert_eq!(triangulate(4, &[], &p), Err(CdtError::Coincident(1, 3)));
+        let p = Ints(vec![[5, 5], [5, 5]]);
+        assert!(matches!(
+            triangulate(2, &[], &p),
+            Err(CdtError::Coincident(_, _))
+        ));
+        let grid: Vec<[i64; 2]> = (0..40).map(|i| [(i * 7) % 11, (i * 5) % 13]).collect();
+        for twin in [0, 17, 39] {
+            let mut pts = grid.clone();
+            pts.push(pts[twin]);
+            let p = Ints(pts.clone());
+            match triangulate(pts.len(), &[], &p) {
+                Err(CdtError::Coincident(a, b)) => assert_eq!(pts[a], pts[b], "{twin}"),
+                other => panic!("{twin}: {other:?}"),
+            }
+        }
     }
 
     /// Random disjoint convex polygons (boxes cut at the corners), their
