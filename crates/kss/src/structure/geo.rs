@@ -24,9 +24,11 @@ use crate::world::{BodyId, World};
 const MEMO_MAX: usize = 1 << 10;
 
 /// One entry of an [`EnclosureMemo`]: the approximation vertex `av(i, k)`
-/// as `(k, i)` (`k = u32::MAX`: empty) and the enclosures of its position
-/// at time 0 (the velocity terms are the frame's own).
-type MemoEntry = (u32, u32, [Interval; 2]);
+/// as `(k, i)` (`k = u32::MAX`: empty), the exposed set's
+/// [`Exposed::version`] when `i` was last found to be the id before `k`,
+/// and the enclosures of its position at time 0 (the velocity terms are
+/// the frame's own).
+type MemoEntry = (u32, u32, u64, [Interval; 2]);
 
 /// The linear enclosures of a body's recently seen approximation vertices,
 /// direct-mapped by exposed id, for one frame (the memo's key): at an
@@ -34,14 +36,16 @@ type MemoEntry = (u32, u32, [Interval; 2]);
 /// names the body-frame point itself, `av(i, k)` with `i` the id before
 /// `k`, so a pop or a merge (which changes which point an exposed id names)
 /// leaves every other entry valid; a frame's uid is never reused, and a
-/// motion change (a new frame) starts the memo again. It grows with the
-/// approximation. A clone starts empty.
+/// motion change (a new frame) starts the memo again. An entry also notes
+/// the exposed set's version it was last read with: asked again while the
+/// set is unchanged, it answers without the search for the id before `k`.
+/// It grows with the approximation. A clone starts empty.
 pub struct EnclosureMemo {
     uid: std::cell::Cell<u64>,
     slots: std::cell::RefCell<Vec<MemoEntry>>,
 }
 
-const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
+const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
 
 impl EnclosureMemo {
     /// An empty memo sized for an approximation of `n` vertices (`2n`
@@ -66,18 +70,37 @@ impl EnclosureMemo {
         (k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize
     }
 
-    fn get(&self, uid: u64, (k, i): (u32, u32)) -> Option<[Interval; 2]> {
+    /// The entry of exposed id `k` if it was last checked against the
+    /// exposed set of version `version` (the set it is asked for: its
+    /// contents are the same, so `k` is exposed and its `i` is the id
+    /// before it), without a search for that id.
+    fn get_current(&self, uid: u64, k: u32, version: u64) -> Option<(u32, [Interval; 2])> {
         if self.uid.get() != uid {
             return None;
         }
         let slots = self.slots.borrow();
         let e = slots[Self::slot(slots.len(), k)];
-        (e.0 == k && e.1 == i).then_some(e.2)
+        (e.0 == k && e.2 == version).then_some((e.1, e.3))
+    }
+
+    /// The entry of `av(i, k)`, noted as checked against the exposed set of
+    /// version `version`.
+    fn get(&self, uid: u64, (k, i): (u32, u32), version: u64) -> Option<[Interval; 2]> {
+        if self.uid.get() != uid {
+            return None;
+        }
+        let mut slots = self.slots.borrow_mut();
+        let at = Self::slot(slots.len(), k);
+        let e = &mut slots[at];
+        (e.0 == k && e.1 == i).then(|| {
+            e.2 = version;
+            e.3
+        })
     }
 
     /// Keep `e` for `av(i, k)` of the frame `uid`, the approximation having
-    /// `n` vertices.
-    fn put(&self, uid: u64, (k, i): (u32, u32), n: usize, e: [Interval; 2]) {
+    /// `n` vertices and exposed set version `version`.
+    fn put(&self, uid: u64, (k, i): (u32, u32), version: u64, n: usize, e: [Interval; 2]) {
         let mut slots = self.slots.borrow_mut();
         let want = Self::size(n);
         if self.uid.get() != uid || want > slots.len() {
@@ -87,7 +110,7 @@ impl EnclosureMemo {
             self.uid.set(uid);
         }
         let at = Self::slot(slots.len(), k);
-        slots[at] = (k, i, e);
+        slots[at] = (k, i, version, e);
     }
 }
 
@@ -1053,6 +1076,14 @@ impl<'a> Geo<'a> {
         };
         let frame = &self.world.body(b).frame;
         let k = a.v as usize;
+        // (an entry checked against the set as it is needs no search for
+        // the id before `k`)
+        let version = ap.exposed.version();
+        if let Some((_i, [x0, y0])) = ap.memo.get_current(frame.uid(), a.v, version) {
+            debug_assert!(ap.exposed.contains(k) && ap.exposed.pred(k) == Some(_i as usize));
+            let [x1, y1] = frame.velocity_enclosure();
+            return Some([x0, x1, y0, y1]);
+        }
         if !ap.exposed.contains(k) {
             return None;
         }
@@ -1073,7 +1104,8 @@ impl<'a> Geo<'a> {
         i: usize,
     ) -> Option<[Interval; 4]> {
         let ki = (k as u32, i as u32);
-        if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki) {
+        let version = ap.exposed.version();
+        if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki, version) {
             let [x1, y1] = frame.velocity_enclosure();
             return Some([x0, x1, y0, y1]);
         }
@@ -1085,7 +1117,8 @@ impl<'a> Geo<'a> {
             "the point's key"
         );
         let e = self.linear_fresh(b, at)?;
-        ap.memo.put(frame.uid(), ki, ap.exposed.len(), [e[0], e[2]]);
+        ap.memo
+            .put(frame.uid(), ki, version, ap.exposed.len(), [e[0], e[2]]);
         Some(e)
     }
 
