@@ -196,9 +196,37 @@ impl Exposed {
     }
 
     /// The largest element `<= k`, if any (`k >= M` counts as `M − 1`).
+    #[inline]
     pub fn prev_at_or_before(&self, k: usize) -> Option<usize> {
+        // (the word of `k` and the two before it first, on the bottom
+        // level: where an approximation's ids lie close, its predecessor
+        // is there, without the climb up the summary levels and back)
+        let pos = k.min(self.m - 1);
+        let words = &self.bits[0];
+        let mut w = pos >> 6;
+        let word = words[w] & (!0u64 >> (63 - (pos & 63)));
+        if word != 0 {
+            return Some((w << 6) | (63 - word.leading_zeros() as usize));
+        }
+        for _ in 0..2 {
+            if w == 0 {
+                return None;
+            }
+            w -= 1;
+            if words[w] != 0 {
+                return Some((w << 6) | (63 - words[w].leading_zeros() as usize));
+            }
+        }
+        if w == 0 {
+            return None;
+        }
+        self.prev_climbing((w << 6) - 1)
+    }
+
+    /// [`Exposed::prev_at_or_before`] of `k < M` through the summary levels.
+    fn prev_climbing(&self, k: usize) -> Option<usize> {
         let mut level = 0;
-        let mut pos = k.min(self.m - 1);
+        let mut pos = k;
         loop {
             let (w, b) = (pos >> 6, pos & 63);
             let mask = if b == 63 {

@@ -176,6 +176,7 @@ fn exposed_against_btree(m: usize, ops: usize, seed: u64) {
             .copied();
         assert_eq!(s.succ(q), succ);
         assert_eq!(s.pred(q), pred);
+        assert_eq!(s.prev_at_or_before(q), b.range(..=q).next_back().copied());
         assert_eq!(s.rank(q), b.range(..q).count());
         if !b.is_empty() {
             let r = rng.below(b.len() as u64) as usize;
