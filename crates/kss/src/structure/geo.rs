@@ -991,7 +991,14 @@ impl<'a> Geo<'a> {
             None => PointKey::real(&body.frame, a.v as usize),
             Some(ap) => {
                 let k = a.v as usize;
-                let i = ap.exposed.pred(k)?;
+                let i = match ap
+                    .memo
+                    .get_current(body.frame.uid(), a.v, ap.exposed.version())
+                {
+                    Some((i, _)) => i as usize,
+                    None => ap.exposed.pred(k)?,
+                };
+                debug_assert_eq!(Some(i), ap.exposed.pred(k));
                 match ap.array.av_is_real(i, k) {
                     Some(v) => PointKey::real(&body.frame, v),
                     None => PointKey::approx(&body.frame, i, k),
@@ -1181,6 +1188,13 @@ impl<'a> Geo<'a> {
             None => (u32::MAX, a.v),
             Some(ap) => {
                 let k = a.v as usize;
+                // (an enclosure memo entry read with the set as it is names
+                // the id before `k`, which is exposed)
+                let uid = self.world.body(b).frame.uid();
+                if let Some((i, _)) = ap.memo.get_current(uid, a.v, ap.exposed.version()) {
+                    debug_assert!(ap.exposed.contains(k) && ap.exposed.pred(k) == Some(i as usize));
+                    return Some((b, ap.point_of(i as usize, k)));
+                }
                 if !ap.exposed.contains(k) {
                     return None;
                 }
