@@ -24,11 +24,16 @@ use crate::world::{BodyId, World};
 const MEMO_MAX: usize = 1 << 10;
 
 /// One entry of an [`EnclosureMemo`]: the approximation vertex `av(i, k)`
-/// as `(k, i)` (`k = u32::MAX`: empty), the exposed set's
-/// [`Exposed::version`] when `i` was last found to be the id before `k`,
-/// and the enclosures of its position at time 0 (the velocity terms are
-/// the frame's own).
-type MemoEntry = (u32, u32, u64, [Interval; 2]);
+/// as `(k, i)` (`k = u32::MAX`: empty; `i`'s top bit, [`CHECKED`], set
+/// where `i` was found to be the id before `k` in the exposed set of the
+/// memo's `checked` version) and the enclosures of its position at time 0
+/// (the velocity terms are the frame's own).
+type MemoEntry = (u32, u32, [Interval; 2]);
+
+/// The flag of an [`EnclosureMemo`] entry's `i` that it was checked
+/// against the exposed set of the memo's `checked` version (ids are below
+/// it: an id at or above it is never flagged).
+const CHECKED: u32 = 1 << 31;
 
 /// The linear enclosures of a body's recently seen approximation vertices,
 /// direct-mapped by exposed id, for one frame (the memo's key): at an
@@ -36,16 +41,20 @@ type MemoEntry = (u32, u32, u64, [Interval; 2]);
 /// names the body-frame point itself, `av(i, k)` with `i` the id before
 /// `k`, so a pop or a merge (which changes which point an exposed id names)
 /// leaves every other entry valid; a frame's uid is never reused, and a
-/// motion change (a new frame) starts the memo again. An entry also notes
-/// the exposed set's version it was last read with: asked again while the
-/// set is unchanged, it answers without the search for the id before `k`.
-/// It grows with the approximation. A clone starts empty.
+/// motion change (a new frame) starts the memo again. An entry read with
+/// the exposed set of one version is flagged for it: asked again while the
+/// set is unchanged, it answers without the search for the id before `k`
+/// (a new version clears the flags, one pass over the slots). It grows
+/// with the approximation. A clone starts empty.
 pub struct EnclosureMemo {
     uid: std::cell::Cell<u64>,
+    /// The exposed set's [`Exposed::version`] that the flagged entries were
+    /// checked against.
+    checked: std::cell::Cell<u64>,
     slots: std::cell::RefCell<Vec<MemoEntry>>,
 }
 
-const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
+const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
 
 impl EnclosureMemo {
     /// An empty memo sized for an approximation of `n` vertices (`2n`
@@ -55,6 +64,7 @@ impl EnclosureMemo {
     pub fn new(n: usize) -> EnclosureMemo {
         EnclosureMemo {
             uid: std::cell::Cell::new(0),
+            checked: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; Self::size(n)]),
         }
     }
@@ -70,36 +80,52 @@ impl EnclosureMemo {
         (k.wrapping_mul(0x9E37_79B1) >> (32 - bits)) as usize
     }
 
-    /// The entry of exposed id `k` if it was last checked against the
-    /// exposed set of version `version` (the set it is asked for: its
-    /// contents are the same, so `k` is exposed and its `i` is the id
-    /// before it), without a search for that id.
+    /// Make `version` the one the flags are for, clearing them if it was
+    /// another.
+    fn check_against(&self, slots: &mut [MemoEntry], version: u64) {
+        if self.checked.get() != version {
+            for e in slots.iter_mut() {
+                e.1 &= !CHECKED;
+            }
+            self.checked.set(version);
+        }
+    }
+
+    /// The entry of exposed id `k` (its `i` and enclosures) if it was
+    /// checked against the exposed set of version `version` (the set it is
+    /// asked for: its contents are the same, so `k` is exposed and `i` is
+    /// the id before it), without a search for that id.
     fn get_current(&self, uid: u64, k: u32, version: u64) -> Option<(u32, [Interval; 2])> {
-        if self.uid.get() != uid {
+        if self.uid.get() != uid || self.checked.get() != version {
             return None;
         }
         let slots = self.slots.borrow();
         let e = slots[Self::slot(slots.len(), k)];
-        (e.0 == k && e.2 == version).then_some((e.1, e.3))
+        (e.0 == k && e.1 & CHECKED != 0).then_some((e.1 & !CHECKED, e.2))
     }
 
-    /// The entry of `av(i, k)`, noted as checked against the exposed set of
-    /// version `version`.
+    /// The entry of `av(i, k)`, flagged as checked against the exposed set
+    /// of version `version` (where `i` is the id before `k`).
     fn get(&self, uid: u64, (k, i): (u32, u32), version: u64) -> Option<[Interval; 2]> {
         if self.uid.get() != uid {
             return None;
         }
         let mut slots = self.slots.borrow_mut();
         let at = Self::slot(slots.len(), k);
-        let e = &mut slots[at];
-        (e.0 == k && e.1 == i).then(|| {
-            e.2 = version;
-            e.3
-        })
+        let e = slots[at];
+        if e.0 != k || e.1 & !CHECKED != i {
+            return None;
+        }
+        self.check_against(&mut slots, version);
+        if i < CHECKED {
+            slots[at].1 = i | CHECKED;
+        }
+        Some(e.2)
     }
 
     /// Keep `e` for `av(i, k)` of the frame `uid`, the approximation having
-    /// `n` vertices and exposed set version `version`.
+    /// `n` vertices and `i` the id before `k` in its exposed set of version
+    /// `version`.
     fn put(&self, uid: u64, (k, i): (u32, u32), version: u64, n: usize, e: [Interval; 2]) {
         let mut slots = self.slots.borrow_mut();
         let want = Self::size(n);
@@ -109,8 +135,9 @@ impl EnclosureMemo {
             slots.resize(len, EMPTY_ENTRY);
             self.uid.set(uid);
         }
+        self.check_against(&mut slots, version);
         let at = Self::slot(slots.len(), k);
-        slots[at] = (k, i, version, e);
+        slots[at] = (k, if i < CHECKED { i | CHECKED } else { i }, e);
     }
 }
 
@@ -118,6 +145,7 @@ impl Clone for EnclosureMemo {
     fn clone(&self) -> EnclosureMemo {
         EnclosureMemo {
             uid: std::cell::Cell::new(0),
+            checked: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; self.slots.borrow().len()]),
         }
     }
@@ -186,7 +214,43 @@ pub struct Approx {
     /// exposed set's [`Exposed::last_removal`] when it was computed
     /// ([`Geo::loose_box`]): the approximation has only shrunk since while
     /// that stays.
-    pub grid_box: std::cell::Cell<Option<(u64, [Interval; 2])>>,
+    pub grid_box: GridBox,
+}
+
+/// An [`Approx`]'s kept box of its vertices: `Some((version, box))` or
+/// `None`, held as the version 0 (an exposed set's
+/// [`Exposed::last_removal`] is never 0) so that it takes no word for
+/// the option.
+#[derive(Debug)]
+pub struct GridBox(std::cell::Cell<(u64, [Interval; 2])>);
+
+impl Default for GridBox {
+    fn default() -> GridBox {
+        GridBox(std::cell::Cell::new((
+            0,
+            [Interval { lo: 0.0, hi: 0.0 }; 2],
+        )))
+    }
+}
+
+impl GridBox {
+    /// The box and the version it was computed for, if any.
+    pub fn get(&self) -> Option<(u64, [Interval; 2])> {
+        let (v, g) = self.0.get();
+        (v != 0).then_some((v, g))
+    }
+
+    /// Keep `b` (`None`: none).
+    pub fn set(&self, b: Option<(u64, [Interval; 2])>) {
+        let none = (0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
+        self.0.set(b.unwrap_or(none));
+    }
+}
+
+impl Clone for GridBox {
+    fn clone(&self) -> GridBox {
+        GridBox(std::cell::Cell::new(self.0.get()))
+    }
 }
 
 /// The slot of a direct-mapped table of `len` entries (a power of two)
@@ -1151,8 +1215,8 @@ impl<'a> Geo<'a> {
             };
             return (ring, places);
         };
-        let mut ring = Vec::with_capacity(ap.exposed.len());
-        let mut places = Vec::with_capacity(ap.exposed.len());
+        let mut ring = Vec::with_capacity(ap.visible_len());
+        let mut places = Vec::with_capacity(ap.visible_len());
         ap.each_visible(|k, i| {
             let x = Att::vertex(b, k as u32);
             ring.push(x);
@@ -1503,6 +1567,32 @@ impl<'a> Geo<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An enclosure memo entry answers without the id before its vertex
+    /// only for the exposed set's version it was last checked against: a
+    /// new version clears every flag, and an entry read again with its id
+    /// before is flagged for the new one; a new frame empties the memo.
+    #[test]
+    fn an_enclosure_memo_entry_answers_by_version_only_once_checked() {
+        let memo = EnclosureMemo::new(8);
+        let e = |x: f64| [Interval { lo: x, hi: x + 1.0 }; 2];
+        memo.put(7, (3, 1), 100, 8, e(1.0));
+        memo.put(7, (5, 3), 100, 8, e(2.0));
+        assert_eq!(memo.get_current(7, 3, 100), Some((1, e(1.0))));
+        assert_eq!(memo.get_current(7, 5, 100), Some((3, e(2.0))));
+        assert_eq!(memo.get_current(8, 3, 100), None, "another frame");
+        // a pop or a merge: a new version, nothing answers by it yet
+        assert_eq!(memo.get_current(7, 3, 101), None);
+        assert_eq!(memo.get(7, (3, 2), 101), None, "another point");
+        assert_eq!(memo.get(7, (3, 1), 101), Some(e(1.0)));
+        assert_eq!(memo.get_current(7, 3, 101), Some((1, e(1.0))));
+        assert_eq!(memo.get_current(7, 5, 101), None, "not checked again");
+        assert_eq!(memo.get_current(7, 3, 100), None, "the old version");
+        memo.put(9, (5, 3), 101, 8, e(3.0));
+        assert_eq!(memo.get(7, (3, 1), 101), None, "the memo of another frame");
+        assert_eq!(memo.get(9, (3, 1), 101), None, "emptied for the new frame");
+        assert_eq!(memo.get_current(9, 5, 101), Some((3, e(3.0))));
+    }
 
     /// `Approx::cw`, `Approx::cw_distance` and the visible ranks agree with
     /// walks of `Approx::prev_visible` over the exposed set, for every id,
