@@ -31,8 +31,8 @@ const MEMO_MAX: usize = 1 << 10;
 type MemoEntry = (u32, u32, [Interval; 2]);
 
 /// The flag of an [`EnclosureMemo`] entry's `i` that it was checked
-/// against the exposed set of the memo's `checked` version (ids are below
-/// it: an id at or above it is never flagged).
+/// against the exposed set of the memo's `checked` version (an entry's
+/// ids are below it: a point with an id at or above it is not kept).
 const CHECKED: u32 = 1 << 31;
 
 /// The linear enclosures of a body's recently seen approximation vertices,
@@ -117,9 +117,7 @@ impl EnclosureMemo {
             return None;
         }
         self.check_against(&mut slots, version);
-        if i < CHECKED {
-            slots[at].1 = i | CHECKED;
-        }
+        slots[at].1 = i | CHECKED;
         Some(e.2)
     }
 
@@ -127,6 +125,11 @@ impl EnclosureMemo {
     /// `n` vertices and `i` the id before `k` in its exposed set of version
     /// `version`.
     fn put(&self, uid: u64, (k, i): (u32, u32), version: u64, n: usize, e: [Interval; 2]) {
+        // (an id with the flag's bit is not kept: an entry's id then never
+        // reads as another)
+        if i >= CHECKED || k == u32::MAX {
+            return;
+        }
         let mut slots = self.slots.borrow_mut();
         let want = Self::size(n);
         if self.uid.get() != uid || want > slots.len() {
@@ -137,7 +140,7 @@ impl EnclosureMemo {
         }
         self.check_against(&mut slots, version);
         let at = Self::slot(slots.len(), k);
-        slots[at] = (k, if i < CHECKED { i | CHECKED } else { i }, e);
+        slots[at] = (k, i | CHECKED, e);
     }
 }
 
