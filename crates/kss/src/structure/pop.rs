@@ -701,15 +701,12 @@ impl Kss {
     }
 }
 
-/// Whether the segment `pq` (points of other objects) meets the interior of
-/// body `b` as `geo` sees it, by the signs `sign` (exact, at or just beside
-/// an instant): no separating line among the segment's line and the
-/// body's edge lines.
 /// A body's vertices as the structure sees them, counter-clockwise (each
 /// placed at the instant only when a test reads it: the search for a
 /// separating edge nearly always reads a few).
 type Ring = Vec<Att>;
 
+/// Body `b`'s [`Ring`].
 fn ring_of(geo: &Geo, b: crate::world::BodyId) -> Ring {
     geo.ids(b).into_iter().map(|v| Att::vertex(b, v)).collect()
 }
