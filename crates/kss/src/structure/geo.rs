@@ -623,10 +623,11 @@ impl Approx {
     /// [`Geo::loose_box`] takes in the merge's new vertices.
     pub fn merge(&mut self, k: usize, body: &crate::geom::BodyPolygon) -> bool {
         let before = self.exposed.last_removal();
-        let neighbours = (self.exposed.pred(k), self.exposed.succ(k));
         let merged = self.array.merge(&mut self.exposed, k);
         if merged {
             self.sync_hidden(k);
+            // (the ids around `k`, which need not be in the set)
+            let neighbours = (self.exposed.pred(k), self.exposed.succ(k));
             self.grow_grid_box(before, neighbours, body);
         }
         merged
