@@ -144,6 +144,37 @@ impl Mesh {
         }
     }
 
+    /// Push the triangles at vertex `a` onto `out` (every one: around `a`
+    /// both ways from [`Mesh::at`], up to the hull).
+    fn fan(&self, a: u32, out: &mut Vec<u32>) {
+        let start = self.at[a as usize];
+        let mut t = start;
+        // clockwise, across the side that ends at `a`
+        loop {
+            out.push(t);
+            let i = self.corner(t, a);
+            let n = self.nbr[t as usize][(i + 2) % 3];
+            if n == start {
+                return;
+            }
+            if n == NONE {
+                break;
+            }
+            t = n;
+        }
+        // counter-clockwise from the start, across the side that begins at `a`
+        t = start;
+        loop {
+            let i = self.corner(t, a);
+            let n = self.nbr[t as usize][i];
+            if n == NONE {
+                return;
+            }
+            t = n;
+            out.push(t);
+        }
+    }
+
     /// The edge `{a, b}` in either direction.
     fn find_either(&self, a: u32, b: u32) -> Option<(u32, usize)> {
         self.find(a, b).or_else(|| self.find(b, a))
@@ -280,21 +311,24 @@ fn delaunay(n: usize, p: &impl Predicates) -> Result<Mesh, CdtError> {
         hull.next[x as usize] = y;
         hull.prev[y as usize] = x;
     }
-    let no_segments = HashSet::default();
     let mut rng = crate::rng::Rng::new(ORDER_SEED);
     let mut hint = 0u32;
+    // (the triangles at the new vertex whose far side is to test, one
+    // buffer for all insertions)
+    let mut stack: Vec<u32> = Vec::new();
     for (idx, &v) in order.iter().enumerate() {
         if idx < 2 || idx == k {
             continue;
         }
         let v32 = v as u32;
-        let link = match locate(&mesh, hint, v, p, &mut rng) {
+        match locate(&mesh, hint, v, p, &mut rng) {
             Located::Inside(t) => split_triangle(&mut mesh, t, v32),
             Located::OnSide(t, i) => split_side(&mut mesh, &mut hull, t, i, v32),
             Located::Outside(t, i) => attach_outside(&mut mesh, &mut hull, t, i, v32, p),
             Located::Corner(w) => return Err(CdtError::Coincident(v, w as usize)),
         };
-        legalize(&mut mesh, link, &no_segments, p);
+        mesh.fan(v32, &mut stack);
+        legalize_at(&mut mesh, v32, &mut stack, p);
         hint = mesh.at[v];
     }
     Ok(mesh)
@@ -445,9 +479,8 @@ fn locate(
     }
 }
 
-/// Split triangle `t` at `v`, strictly inside it, into three; returns its
-/// three old sides (to make Delaunay).
-fn split_triangle(mesh: &mut Mesh, t: u32, v: u32) -> Vec<(u32, u32)> {
+/// Split triangle `t` at `v`, strictly inside it, into three.
+fn split_triangle(mesh: &mut Mesh, t: u32, v: u32) {
     let [a, b, c] = mesh.tri[t as usize];
     let [n_ab, n_bc, n_ca] = mesh.nbr[t as usize];
     let (t1, t2) = (mesh.tri.len() as u32, mesh.tri.len() as u32 + 1);
@@ -463,13 +496,11 @@ fn split_triangle(mesh: &mut Mesh, t: u32, v: u32) -> Vec<(u32, u32)> {
     mesh.at[b as usize] = t;
     mesh.at[v as usize] = t;
     mesh.at[c as usize] = t1;
-    vec![(a, b), (b, c), (c, a)]
 }
 
 /// Split the side `i` of `t` at `v`, strictly between its ends: its two
-/// triangles (one on the hull) into four (two); returns the sides of the
-/// new triangles opposite `v` (to make Delaunay).
-fn split_side(mesh: &mut Mesh, hull: &mut Hull, t: u32, i: usize, v: u32) -> Vec<(u32, u32)> {
+/// triangles (one on the hull) into four (two).
+fn split_side(mesh: &mut Mesh, hull: &mut Hull, t: u32, i: usize, v: u32) {
     let c3 = mesh.tri[t as usize];
     let (a, b, c) = (c3[i], c3[(i + 1) % 3], c3[(i + 2) % 3]);
     let u = mesh.nbr[t as usize][i];
@@ -488,13 +519,12 @@ fn split_side(mesh: &mut Mesh, hull: &mut Hull, t: u32, i: usize, v: u32) -> Vec
     mesh.at[c as usize] = t;
     mesh.at[v as usize] = t;
     mesh.at[b as usize] = t1;
-    let mut link = vec![(c, a), (b, c)];
     if u == NONE {
         hull.next[a as usize] = v;
         hull.prev[v as usize] = a;
         hull.next[v as usize] = b;
         hull.prev[b as usize] = v;
-        return link;
+        return;
     }
     let j = mesh.side(u, b, a).expect("the neighbour holds the side");
     let d = mesh.tri[u as usize][(j + 2) % 3];
@@ -506,21 +536,11 @@ fn split_side(mesh: &mut Mesh, hull: &mut Hull, t: u32, i: usize, v: u32) -> Vec
     mesh.nbr.push([t, n_ad, u]);
     mesh.link(n_ad, d, a, u1);
     mesh.at[d as usize] = u;
-    link.extend([(d, b), (a, d)]);
-    link
 }
 
 /// Join `v`, outside the hull and strictly beyond its edge on side `i` of
-/// `t`, to every hull edge it sees strictly (one chain); returns those
-/// edges, now inside (to make Delaunay).
-fn attach_outside(
-    mesh: &mut Mesh,
-    hull: &mut Hull,
-    t: u32,
-    i: usize,
-    v: u32,
-    p: &impl Predicates,
-) -> Vec<(u32, u32)> {
+/// `t`, to every hull edge it sees strictly (one chain).
+fn attach_outside(mesh: &mut Mesh, hull: &mut Hull, t: u32, i: usize, v: u32, p: &impl Predicates) {
     let sees = |a: u32, b: u32| p.orient(a as usize, b as usize, v as usize) == Sign::Negative;
     let c3 = mesh.tri[t as usize];
     let (mut left, mut right) = (c3[i], c3[(i + 1) % 3]);
@@ -530,7 +550,6 @@ fn attach_outside(
     while sees(hull.prev[left as usize], left) {
         left = hull.prev[left as usize];
     }
-    let mut covered = Vec::new();
     let mut a = left;
     let mut before = NONE;
     while a != right {
@@ -551,7 +570,6 @@ fn attach_outside(
             hull.next[a as usize] = NONE;
             hull.prev[a as usize] = NONE;
         }
-        covered.push((a, b));
         before = t;
         a = b;
     }
@@ -559,7 +577,6 @@ fn attach_outside(
     hull.prev[v as usize] = left;
     hull.next[v as usize] = right;
     hull.prev[right as usize] = v;
-    covered
 }
 
 /// Lawson's flips from the edges in `todo`: an edge that is not a segment
@@ -595,6 +612,39 @@ fn legalize(
         }
         mesh.flip(t, i);
         todo.extend([(a, d), (d, b), (b, c), (c, a)]);
+    }
+}
+
+/// Lawson's flips around a new vertex `v`, from the triangles at `v` in
+/// `stack`: the side of each opposite `v` is tested as in [`legalize`] and,
+/// when flipped, both new triangles (each with `v` as a corner) are tested
+/// again. The sides at `v` need no test: an edge from the new vertex is
+/// locally Delaunay once the sides opposite it are. No edge search, no
+/// segment set (there are none yet). Empties `stack`.
+fn legalize_at(mesh: &mut Mesh, v: u32, stack: &mut Vec<u32>, p: &impl Predicates) {
+    while let Some(t) = stack.pop() {
+        let c = mesh.tri[t as usize];
+        let i = (mesh.corner(t, v) + 1) % 3;
+        let u = mesh.nbr[t as usize][i];
+        if u == NONE {
+            continue;
+        }
+        let (a, b) = (c[i], c[(i + 1) % 3]);
+        let (au, bu, vu) = (a as usize, b as usize, v as usize);
+        if p.same_obstacle(au, bu) {
+            continue;
+        }
+        let j = mesh.side(u, b, a).expect("the neighbour holds the edge");
+        let du = mesh.tri[u as usize][(j + 2) % 3] as usize;
+        if !p.in_circle(au, bu, vu, du) {
+            continue;
+        }
+        if p.orient(vu, au, du) != Sign::Positive || p.orient(du, bu, vu) != Sign::Positive {
+            continue;
+        }
+        // (t, u) = (a, b, v), (b, a, d) become (v, a, d), (d, b, v)
+        mesh.flip(t, i);
+        stack.extend([t, u]);
     }
 }
 
