@@ -227,7 +227,8 @@ pub fn triangulate(
     p: &impl Predicates,
 ) -> Result<Vec<[usize; 3]>, CdtError> {
     let mut mesh = delaunay(n, p)?;
-    let mut fixed: HashSet<(u32, u32), foldhash::fast::FixedState> = HashSet::default();
+    let mut fixed: HashSet<(u32, u32), foldhash::fast::FixedState> =
+        HashSet::with_capacity_and_hasher(segments.len(), Default::default());
     let mut crossing = Vec::new();
     for &[u, v] in segments {
         debug_assert_ne!(u, v, "a segment joins two vertices");

@@ -228,7 +228,8 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
     let tris = cdt::triangulate(vertices.atts.len(), &edges, &vertices)
         .map_err(|e: CdtError| BuildError::Degenerate(e.to_string()))?;
     let atts = vertices.atts;
-    let mut directed: FastMap<(usize, usize), ()> = FastMap::default();
+    let mut directed: FastMap<(usize, usize), ()> =
+        FastMap::with_capacity_and_hasher(3 * tris.len(), Default::default());
     for tri in &tris {
         for i in 0..3 {
             directed.insert((tri[i], tri[(i + 1) % 3]), ());
@@ -276,7 +277,8 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
             side_of.insert((f[i], f[(i + 1) % 3]), (fi, i));
         }
     }
-    let mut tri_id: FastMap<usize, TriId> = FastMap::default();
+    let mut tri_id: FastMap<usize, TriId> =
+        FastMap::with_capacity_and_hasher(faces.len(), Default::default());
     let mut kss = Kss::default();
     for (fi, f) in faces.iter().enumerate() {
         if is_partition(f) {
