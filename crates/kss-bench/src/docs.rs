@@ -749,9 +749,14 @@ fn cell_value(c: &CellResult, column: &str) -> Result<String, String> {
         "events" | "collisions" => String::new(),
         "events / collision" => per(events as f64, collisions),
         "µs / event" => per(o.wall_seconds * 1e6, events),
-        "µs / event after build" => match o.build_seconds {
-            Some(b) => per((o.wall_seconds - b) * 1e6, events),
-            None => String::new(),
+        "µs / event after build" => match (
+            o.counters.ns_per_event_after_build(o.wall_seconds),
+            o.build_seconds,
+        ) {
+            (Some(ns), _) if ok => report::format_sig(ns / 1e3),
+            (Some(_), _) => String::new(),
+            (None, Some(b)) => per((o.wall_seconds - b) * 1e6, events),
+            (None, None) => String::new(),
         },
         "µs / collision" => per(o.wall_seconds * 1e6, collisions),
         "peak RSS (MiB)" => o

@@ -88,6 +88,13 @@ pub struct Counters {
     /// `flight_plan_change`); empty for the other methods.
     #[serde(default)]
     pub events_by_kind: std::collections::BTreeMap<String, u64>,
+    /// The library's structures: the wall time, in seconds, that this run
+    /// spent before its first event (the exact world with its validation,
+    /// the structure and its certificates: `RunStats::build_seconds`), so
+    /// that the rest of the run's wall time is its events'; `None` for the
+    /// other methods.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub build_seconds: Option<f64>,
 }
 
 impl Counters {
@@ -100,6 +107,15 @@ impl Counters {
     /// (`pop`) and before the start (`initial_pop`); 0 for other methods.
     pub fn pops(&self) -> u64 {
         self.kind("pop") + self.kind("initial_pop")
+    }
+
+    /// Wall time per event after the construction, in nanoseconds, from one
+    /// run: `(wall − build) / events` with the construction timed inside
+    /// the run that took `wall_seconds` ([`Counters::build_seconds`]);
+    /// `None` without that time or without events.
+    pub fn ns_per_event_after_build(&self, wall_seconds: f64) -> Option<f64> {
+        let b = self.build_seconds?;
+        (self.events > 0).then(|| (wall_seconds - b).max(0.0) * 1e9 / self.events as f64)
     }
 }
 
@@ -152,5 +168,28 @@ impl Deadline {
     /// Whether the deadline has passed.
     pub fn passed(&self) -> bool {
         self.0.is_some_and(|d| std::time::Instant::now() >= d)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Counters;
+
+    /// The time per event after the construction is the run's wall time
+    /// less its own construction, over its events; nothing without the
+    /// construction's time or without events.
+    #[test]
+    fn time_after_build_is_the_runs_wall_less_its_construction_per_event() {
+        let mut c = Counters {
+            events: 4,
+            build_seconds: Some(0.25),
+            ..Default::default()
+        };
+        assert_eq!(c.ns_per_event_after_build(0.5), Some(0.0625e9));
+        c.events = 0;
+        assert_eq!(c.ns_per_event_after_build(0.5), None);
+        c.events = 4;
+        c.build_seconds = None;
+        assert_eq!(c.ns_per_event_after_build(0.5), None);
     }
 }

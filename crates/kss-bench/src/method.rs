@@ -161,6 +161,7 @@ fn run_library(
             certificates_max: stats.certificates_max,
             pair_tests: pair_tests.unwrap_or(0),
             events_by_kind: stats.events_by_kind,
+            build_seconds: Some(stats.build_seconds),
         },
     ))
 }

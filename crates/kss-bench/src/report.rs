@@ -802,9 +802,10 @@ fn flypast_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<
          construction, events); `build`: with `--build-time`, a separate run of the \
          same structure up to the smallest positive double (world, validation, \
          structure and certificates, no events); `ns/ev`: wall / events; `ns/ev \
-         after build`: (wall − build) / events, `—` where the run was not slower \
-         than the construction alone (timing noise: the construction-only run goes \
-         first and warms the allocator); `other kinds`: the rest of \
+         after build`: the wall time of the run after its own construction (timed \
+         inside the run, before its first event) over events; for runs recorded \
+         without that time, (wall − build) / events, `—` where the run was not \
+         slower than the separate construction; `other kinds`: the rest of \
          `events_by_kind`.\n"
     );
     let _ = writeln!(
@@ -835,6 +836,9 @@ fn flypast_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<
             }
             let k = &o.counters;
             let after = match o.build_seconds {
+                _ if k.build_seconds.is_some() => k
+                    .ns_per_event_after_build(o.wall_seconds)
+                    .map_or(String::new(), |ns| format!("{ns:.0}")),
                 Some(b) if k.events > 0 && o.wall_seconds > b => {
                     format!("{:.0}", (o.wall_seconds - b) * 1e9 / k.events as f64)
                 }
