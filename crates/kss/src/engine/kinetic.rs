@@ -12,7 +12,7 @@ use super::{world_time, Collisions, Finder, RunError};
 use crate::brute::{Brute, PairMethod};
 use crate::num::{Rational, Time};
 use crate::structure::geo::{Geo, Shapes};
-use crate::structure::kinetic::{Kinetic, Rebuild, Step};
+use crate::structure::kinetic::{Kinetic, PendingPops, Rebuild, Step};
 use crate::structure::ops::EventKind;
 use crate::structure::{refine, Att, Obj, StructureError};
 use crate::world::{BodyId, World};
@@ -282,7 +282,7 @@ impl KineticEngine {
                 .map_err(internal)?;
             }
         }
-        let local = pops_in.local;
+        let local = pops_in.finish(&self.shapes).map_err(internal)?;
         self.k.tally.events(EventKind::Pop, pops);
         let geo = Geo {
             world,
@@ -307,11 +307,14 @@ impl KineticEngine {
 /// Pops of approximation vertices at instant `t`, each done in place in the
 /// structure until one cannot be; after that only the approximations
 /// change, and the caller rebuilds the structure (`local` is then false).
+/// The structure's corridors are normalized and its certificates refreshed
+/// once, after the instant's last pop ([`LocalPops::finish`]).
 struct LocalPops<'a> {
     k: &'a mut Kinetic,
     world: &'a World,
     t: &'a Time,
     local: bool,
+    pending: PendingPops,
 }
 
 impl<'a> LocalPops<'a> {
@@ -321,18 +324,32 @@ impl<'a> LocalPops<'a> {
             world,
             t,
             local: true,
+            pending: PendingPops::default(),
         }
     }
 
     /// Pop `a`; whether the approximation changed.
     fn pop(&mut self, shapes: &mut Shapes, a: Att) -> Result<bool, StructureError> {
         if self.local {
-            let (changed, followed) = self.k.pop_local(self.world, shapes, a, self.t)?;
+            let (changed, followed) =
+                self.k
+                    .pop_deferred(self.world, shapes, a, self.t, &mut self.pending)?;
             self.local = followed;
             Ok(changed)
         } else {
             Ok(refine::pop(shapes, a))
         }
+    }
+
+    /// After the last pop: normalize and refresh what the pops touched;
+    /// whether the structure followed every pop (if not, the caller
+    /// rebuilds it).
+    fn finish(mut self, shapes: &Shapes) -> Result<bool, StructureError> {
+        let pending = std::mem::take(&mut self.pending);
+        if self.local {
+            self.local = self.k.finish_pops(self.world, shapes, self.t, pending)?;
+        }
+        Ok(self.local)
     }
 }
 
@@ -406,7 +423,7 @@ impl KineticEngine {
                     .map_err(internal)?;
             }
         }
-        let local = pops_in.local;
+        let local = pops_in.finish(&self.shapes).map_err(internal)?;
         if pops > 0 {
             self.k.tally.events(EventKind::Pop, pops);
         }

@@ -627,19 +627,20 @@ impl Kinetic {
         (Named(named), owners)
     }
 
-    /// After vertices `ids` of body `b` changed place (a pop or a merge):
-    /// recompute the certificates of `owners`, then schedule again every
-    /// certificate still naming one of `ids` (its points moved) that those
-    /// refreshes did not schedule anew. `named` is what
-    /// [`Kinetic::owners_naming`] found before the refreshes: a certificate
-    /// naming one of `ids` afterwards is one of those still there, or one
+    /// After vertices `ids` of body `b` changed place, for each `(b, ids)`
+    /// of `moved` (pops or a merge): recompute the certificates of
+    /// `owners`, then schedule again every certificate still naming one of
+    /// those vertices (its points moved) that the refreshes did not schedule
+    /// anew. `named` is what [`Kinetic::owners_naming`] found for each
+    /// before the refreshes (merged, [`Named::merge`]): a certificate naming
+    /// one of the vertices afterwards is one of those still there, or one
     /// the refreshes scheduled anew (only they make certificates, and a
-    /// certificate's points never change), so the body's certificates are
+    /// certificate's points never change), so the bodies' certificates are
     /// not searched again.
     pub(super) fn refresh_moved(
         &mut self,
         geo: &Geo,
-        (b, ids): (BodyId, &[Att]),
+        moved: &[(BodyId, Vec<Att>)],
         (named, owners): (Named, BTreeSet<Owner>),
         t: &Time,
     ) -> Result<(), StructureError> {
@@ -654,17 +655,27 @@ impl Kinetic {
             .into_iter()
             .filter(|&(p, id)| self.certs.at(id).is_some_and(|s| s.cert.p == p))
             .collect();
-        debug_assert_eq!(
-            still
-                .iter()
-                .filter(|(_, id)| !fresh.contains(id))
-                .collect::<Vec<_>>(),
-            self.certs_naming(b, ids)
-                .iter()
-                .filter(|(_, id)| !fresh.contains(id))
-                .collect::<Vec<_>>(),
-            "a certificate naming the moved vertices was made outside the refreshes"
-        );
+        #[cfg(debug_assertions)]
+        {
+            let mut now_naming = Named(Vec::new());
+            for (b, ids) in moved {
+                now_naming.merge(Named(self.certs_naming(*b, ids)));
+            }
+            debug_assert_eq!(
+                still
+                    .iter()
+                    .filter(|(_, id)| !fresh.contains(id))
+                    .collect::<Vec<_>>(),
+                now_naming
+                    .0
+                    .iter()
+                    .filter(|(_, id)| !fresh.contains(id))
+                    .collect::<Vec<_>>(),
+                "a certificate naming the moved vertices was made outside the refreshes"
+            );
+        }
+        #[cfg(not(debug_assertions))]
+        let _ = moved;
         for (_, id) in still {
             if !fresh.contains(&id) {
                 self.reschedule_id(geo, id, t, None);
@@ -706,4 +717,15 @@ impl Kinetic {
 
 /// The certificates on a body that name some vertices, in the order of
 /// their points ([`Kinetic::owners_naming`]), for [`Kinetic::refresh_moved`].
+#[derive(Default)]
 pub(super) struct Named(Vec<([Att; 3], CertId)>);
+
+impl Named {
+    /// Take in `other`'s certificates (of another body, or found later),
+    /// keeping the order of their points and each once.
+    pub(super) fn merge(&mut self, other: Named) {
+        self.0.extend(other.0);
+        self.0.sort_unstable_by_key(|&(p, _)| p);
+        self.0.dedup();
+    }
+}

@@ -41,6 +41,7 @@ mod step;
 mod store;
 mod tally;
 
+pub(crate) use repair::PendingPops;
 pub use tally::{Rebuild, Tally};
 
 use instant::InstantState;

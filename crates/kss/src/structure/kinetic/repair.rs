@@ -85,6 +85,18 @@ pub(super) fn nearest_body(world: &Geo, b: BodyId, now: &Time) -> Option<BodyId>
         .map(|(_, c)| c)
 }
 
+/// The pops of one instant done in the structure but not yet normalized
+/// nor refreshed ([`Kinetic::pop_deferred`], [`Kinetic::finish_pops`]).
+#[derive(Default)]
+pub(crate) struct PendingPops {
+    /// Each pop's body and the vertices that changed place.
+    moved: Vec<(BodyId, Vec<Att>)>,
+    /// The certificates on those vertices before the first pop.
+    named: super::book::Named,
+    /// The touched triangles and corridors, and the owners of `named`.
+    owners: BTreeSet<Owner>,
+}
+
 impl Kinetic {
     /// Pop approximation vertex `a` (in `shapes`) at `t` and update the
     /// structure in place ([`crate::structure::Kss::pop_vertex`]): the touched corridors are
@@ -99,6 +111,32 @@ impl Kinetic {
         a: Att,
         t: &Time,
     ) -> Result<(bool, bool), StructureError> {
+        let mut pending = PendingPops::default();
+        let (changed, followed) = self.pop_deferred(world, shapes, a, t, &mut pending)?;
+        if !followed {
+            return Ok((changed, false));
+        }
+        Ok((changed, self.finish_pops(world, shapes, t, pending)?))
+    }
+
+    /// [`Kinetic::pop_local`] up to the pop in the structure: the touched
+    /// corridors keep the middle bridges the pop's check set (for one side
+    /// of `t`), and what the normalizations and the refreshes need is added
+    /// to `pending`, for [`Kinetic::finish_pops`] once the instant's last
+    /// pop is done. The pops of one instant are one change of the
+    /// structure: normalizing after each would look for decompositions just
+    /// after `t` while the instant's other popped vertices still fail
+    /// there (a decomposition held against the motion, searched at every
+    /// start, for each), and would schedule certificates the next pop
+    /// replaces.
+    pub(crate) fn pop_deferred(
+        &mut self,
+        world: &crate::world::World,
+        shapes: &mut crate::structure::geo::Shapes,
+        a: Att,
+        t: &Time,
+        pending: &mut PendingPops,
+    ) -> Result<(bool, bool), StructureError> {
         let (corrs, tris, ids) = match self.kss.pop_vertex(world, shapes, a, t) {
             crate::structure::pop::PopResult::NotPopped => return Ok((false, true)),
             crate::structure::pop::PopResult::Failed => {
@@ -107,29 +145,49 @@ impl Kinetic {
             }
             crate::structure::pop::PopResult::Local { corrs, tris, ids } => (corrs, tris, ids),
         };
-        let geo = Geo {
-            world,
-            shapes: &*shapes,
-        };
         let Obj::Body(b) = a.obj else {
             unreachable!("a popped vertex is on a body")
         };
-        // every certificate on a changed vertex, and its owners
-        let (named, mut owners) = self.owners_naming(b, &ids);
-        owners.extend(corrs.iter().map(|&k| Owner::Corr(k)));
-        owners.extend(tris.iter().map(|&t| Owner::Tri(t)));
-        for o in &owners {
+        // every certificate on a changed vertex, and its owners (the book
+        // is as it was before the instant's first pop: only
+        // `finish_pops` refreshes it)
+        let (named, owners) = self.owners_naming(b, &ids);
+        pending.named.merge(named);
+        pending.owners.extend(owners);
+        pending.owners.extend(corrs.iter().map(|&k| Owner::Corr(k)));
+        pending.owners.extend(tris.iter().map(|&t| Owner::Tri(t)));
+        pending.moved.push((b, ids));
+        self.tally.local_pops += 1;
+        Ok((true, true))
+    }
+
+    /// After the pops of `pending` at `t` ([`Kinetic::pop_deferred`]):
+    /// normalize the touched corridors just after `t` and recompute the
+    /// certificates of every owner of a touched face or of a certificate on
+    /// a moved vertex. Returns whether the structure followed (if not, it
+    /// must be rebuilt on the new approximations).
+    pub(crate) fn finish_pops(
+        &mut self,
+        world: &crate::world::World,
+        shapes: &crate::structure::geo::Shapes,
+        t: &Time,
+        pending: PendingPops,
+    ) -> Result<bool, StructureError> {
+        if pending.moved.is_empty() {
+            return Ok(true);
+        }
+        let geo = Geo { world, shapes };
+        for o in &pending.owners {
             if let Owner::Corr(k) = *o {
                 crate::structure::counters::bump(crate::structure::counters::Counter::PopOwners);
                 if let Err(_e) = self.kss.normalize(&geo, k, t, None) {
-                    trace!("pop of {a:?}: {_e}; rebuilding");
-                    return Ok((true, false));
+                    trace!("pops at {}: {_e}; rebuilding", t.to_f64());
+                    return Ok(false);
                 }
             }
         }
-        self.refresh_moved(&geo, (b, &ids), (named, owners), t)?;
-        self.tally.local_pops += 1;
-        Ok((true, true))
+        self.refresh_moved(&geo, &pending.moved, (pending.named, pending.owners), t)?;
+        Ok(true)
     }
 
     /// Remove body `b` (already dead in `world`; every other body seen as
@@ -711,7 +769,7 @@ impl Kinetic {
             };
             let (named, mut owners) = self.owners_naming(b, &[q]);
             owners.insert(Owner::Corr(k));
-            self.refresh_moved(&geo, (b, &[q]), (named, owners), t)?;
+            self.refresh_moved(&geo, &[(b, vec![q])], (named, owners), t)?;
         }
         self.tally.merges += merges;
         Ok(merges)
