@@ -13,7 +13,10 @@
 //! a rebuild for just after an instant where two polygons slide along each
 //! other, or three meet at a point; a pop next to a corridor whose chain
 //! wraps the whole popped polygon, after local removals (the quick bench's
-//! grazing-p50); a polygon resting on another where the structure must be
+//! grazing-p50); pops at one instant, done in the structure and
+//! finished together, of which a later one cannot be done in place after
+//! an earlier one's triangle collapses changed faces between two other
+//! bodies (`pops_of_an_instant_then_one_not_in_place_*`); a polygon resting on another where the structure must be
 //! built afresh (from the infinitesimally shrunk copy); a pop that must not put a
 //! partition triangle's side across a polygon; a middle bridge along flush
 //! edges of both its bodies, which would hide a contact on that line; a

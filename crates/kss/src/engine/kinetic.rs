@@ -334,6 +334,17 @@ impl<'a> LocalPops<'a> {
             let (changed, followed) =
                 self.k
                     .pop_deferred(self.world, shapes, a, self.t, &mut self.pending)?;
+            if !followed {
+                // the pops before this one are done in the structure:
+                // finished now, away from this one's body (the caller
+                // repairs the region around the bodies, or rebuilds)
+                let Obj::Body(b) = a.obj else {
+                    unreachable!("a popped vertex is on a body")
+                };
+                let pending = std::mem::take(&mut self.pending);
+                self.k
+                    .finish_pops(self.world, shapes, self.t, pending, Some(b))?;
+            }
             self.local = followed;
             Ok(changed)
         } else {
@@ -347,7 +358,9 @@ impl<'a> LocalPops<'a> {
     fn finish(mut self, shapes: &Shapes) -> Result<bool, StructureError> {
         let pending = std::mem::take(&mut self.pending);
         if self.local {
-            self.local = self.k.finish_pops(self.world, shapes, self.t, pending)?;
+            self.local = self
+                .k
+                .finish_pops(self.world, shapes, self.t, pending, None)?;
         }
         Ok(self.local)
     }

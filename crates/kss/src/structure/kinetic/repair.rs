@@ -116,7 +116,7 @@ impl Kinetic {
         if !followed {
             return Ok((changed, false));
         }
-        Ok((changed, self.finish_pops(world, shapes, t, pending)?))
+        Ok((changed, self.finish_pops(world, shapes, t, pending, None)?))
     }
 
     /// [`Kinetic::pop_local`] up to the pop in the structure: the touched
@@ -166,28 +166,60 @@ impl Kinetic {
     /// certificates of every owner of a touched face or of a certificate on
     /// a moved vertex. Returns whether the structure followed (if not, it
     /// must be rebuilt on the new approximations).
+    ///
+    /// With `failed`, the body of a pop that the structure could not
+    /// follow (its approximation is refined in `shapes`, the structure is
+    /// as before that pop): the faces on that body, or at a triangle with
+    /// a corner on it, are left as they are, for the repair of the region
+    /// around it or the rebuild that comes next; the pops before it are
+    /// finished everywhere else (faces away from the failed pop's body,
+    /// such as those a pop's triangle collapses changed between two other
+    /// bodies, would otherwise keep certificates of faces that are gone).
     pub(crate) fn finish_pops(
         &mut self,
         world: &crate::world::World,
         shapes: &crate::structure::geo::Shapes,
         t: &Time,
-        pending: PendingPops,
+        mut pending: PendingPops,
+        failed: Option<BodyId>,
     ) -> Result<bool, StructureError> {
         if pending.moved.is_empty() {
             return Ok(true);
         }
+        if let Some(b) = failed {
+            let kss = &self.kss;
+            let on_tri = |ti: crate::structure::TriId| {
+                kss.tris[ti.0 as usize]
+                    .c
+                    .iter()
+                    .any(|x| x.obj == Obj::Body(b))
+            };
+            pending.owners.retain(|o| match *o {
+                Owner::Tri(ti) => !on_tri(ti),
+                Owner::Corr(k) => {
+                    let c = &kss.corrs[k.0 as usize];
+                    c.a != Obj::Body(b) && c.b != Obj::Body(b) && !on_tri(c.s.0) && !on_tri(c.t.0)
+                }
+            });
+        }
         let geo = Geo { world, shapes };
+        // (a corridor without a decomposition is left as it is, for the
+        // repair or the rebuild that comes next; the others are finished)
+        let mut unfollowed = Vec::new();
         for o in &pending.owners {
             if let Owner::Corr(k) = *o {
                 crate::structure::counters::bump(crate::structure::counters::Counter::PopOwners);
                 if let Err(_e) = self.kss.normalize(&geo, k, t, None) {
                     trace!("pops at {}: {_e}; rebuilding", t.to_f64());
-                    return Ok(false);
+                    unfollowed.push(*o);
                 }
             }
         }
+        for o in &unfollowed {
+            pending.owners.remove(o);
+        }
         self.refresh_moved(&geo, &pending.moved, (pending.named, pending.owners), t)?;
-        Ok(true)
+        Ok(unfollowed.is_empty())
     }
 
     /// Remove body `b` (already dead in `world`; every other body seen as
