@@ -277,8 +277,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
             side_of.insert((f[i], f[(i + 1) % 3]), (fi, i));
         }
     }
-    let mut tri_id: FastMap<usize, TriId> =
-        FastMap::with_capacity_and_hasher(faces.len(), Default::default());
+    let mut tri_id: FastMap<usize, TriId> = FastMap::default();
     let mut kss = Kss::default();
     for (fi, f) in faces.iter().enumerate() {
         if is_partition(f) {
