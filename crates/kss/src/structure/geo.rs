@@ -887,6 +887,23 @@ impl Shapes {
     }
 }
 
+/// A turn read as the turn of its third point with the real edge of an
+/// approximation edge's line ([`Geo::edge_line`]).
+pub(crate) struct EdgeLine<'a> {
+    /// The memo keys of `(x, V_from, V_to)`.
+    pub keys: [super::memo::PointKey; 3],
+    /// Their frames.
+    pub frames: [&'a Arc<Frame>; 3],
+    /// The body of the edge.
+    pub body: BodyId,
+    /// The third point.
+    pub x: Att,
+    /// The real edge's vertex where the turn's edge starts.
+    pub from: usize,
+    /// The real edge's vertex where the turn's edge ends.
+    pub to: usize,
+}
+
 /// The world together with how the structure sees each body. Dereferences
 /// to the [`World`] for everything else (motions, liveness, ids).
 #[derive(Clone, Copy, Debug)]
@@ -1105,7 +1122,24 @@ impl<'a> Geo<'a> {
             self.point_key(v)?.0,
             self.point_key(w)?.0,
         ];
-        super::memo::peek(keys, t, after)
+        super::memo::peek(keys, t, after).or_else(|| {
+            let s = self
+                .edge_line([u, v, w])
+                .and_then(|line| super::memo::peek(line.keys, t, after))?;
+            #[cfg(debug_assertions)]
+            {
+                let direct =
+                    crate::motion::orient_poly(&self.point(u), &self.point(v), &self.point(w))
+                        .signs_around(t);
+                debug_assert_eq!(
+                    s,
+                    direct[usize::from(after)],
+                    "the memo's turn of the real edge of {:?}'s line is not its own",
+                    [u, v, w]
+                );
+            }
+            Some(s)
+        })
     }
 
     /// Tell the instant's memo that `orient(u, v, w)` has sign `s` just
@@ -1116,6 +1150,69 @@ impl<'a> Geo<'a> {
         {
             super::memo::record([ku, kv, kw], [fu, fv, fw], t, after, s);
         }
+        // (and as the turn with the real edge of its line, where it has one)
+        if let Some(line) = self.edge_line([u, v, w]) {
+            super::memo::record(line.keys, line.frames, t, after, s);
+        }
+    }
+
+    /// For a turn `pts` two of whose points, `p` then `q` in its cyclic
+    /// order, are the ends of an approximation edge (`q` the vertex after
+    /// `p` in the exposed set, or `p` the one after `q`) whose line is a
+    /// real polygon edge `V_s → V_e`, the third point `x` on another body:
+    /// the turn `(x, V_s, V_e)` (`V_e → V_s` where `q` comes before `p`)
+    /// that has its sign at every time. The approximation edge contains the
+    /// real edge and runs the same way (an outer approximation touches each
+    /// of its lines along the line's real edge), so `orient(x, p, q)` is a
+    /// positive multiple of `orient(x, V_s, V_e)`. `None` where the turn
+    /// has no such edge (on a real polygon, its edges are their own).
+    pub(crate) fn edge_line(&self, pts: [Att; 3]) -> Option<EdgeLine<'a>> {
+        for r in 0..3 {
+            let (x, p, q) = (pts[r], pts[(r + 1) % 3], pts[(r + 2) % 3]);
+            let (Obj::Body(b), Obj::Body(bx)) = (p.obj, x.obj) else {
+                continue;
+            };
+            if q.obj != p.obj || bx == b {
+                continue;
+            }
+            let Some(ap) = self.shapes.approx(b) else {
+                continue;
+            };
+            let s = ap.exposed();
+            let (pk, qk) = (p.v as usize, q.v as usize);
+            // the edge's entry, and whether p → q runs along it
+            let (k, forward) = if s.contains(pk) && s.succ(pk) == Some(qk) {
+                (pk, true)
+            } else if s.contains(qk) && s.succ(qk) == Some(pk) {
+                (qk, false)
+            } else {
+                continue;
+            };
+            let e = ap.array.entry(k);
+            if e.is_zero_length() {
+                continue;
+            }
+            let (from, to) = if forward {
+                (e.start, e.end)
+            } else {
+                (e.end, e.start)
+            };
+            let frame = &self.world.body(b).frame;
+            let (kx, fx) = self.point_key(x)?;
+            return Some(EdgeLine {
+                keys: [
+                    kx,
+                    super::memo::PointKey::real(frame, from),
+                    super::memo::PointKey::real(frame, to),
+                ],
+                frames: [fx, frame, frame],
+                body: b,
+                x,
+                from,
+                to,
+            });
+        }
+        None
     }
 
     /// Vertex `a` as a [`PointRef`] (`None` for `ω` or an id that is not

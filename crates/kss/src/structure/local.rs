@@ -144,8 +144,16 @@ fn turn_on_past_mid_rad(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Sid
 /// filters leave it undecided: the instant's memo, or the exact sign.
 fn turn_on_exact(world: &Geo, [u, v, w]: [Att; 3], t: &Time, side: Side) -> Sign {
     world.shapes.faces.note_exact_read();
-    // (the instant's memo of exact turns, which `turn_after` shares)
     let after = side == Side::After;
+    if let Some(s) = world.memo_peek([u, v, w], t, after) {
+        super::counters::bump(super::counters::Counter::TurnsMemo);
+        return s;
+    }
+    if let Some(s) = turn_on_edge_line(world, [u, v, w], t, side) {
+        world.memo_record([u, v, w], t, after, s);
+        return s;
+    }
+    // (the instant's memo of exact turns, which `turn_after` shares)
     world.memo_turn([u, v, w], t, after, || {
         let p = crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w));
         // (both sides from one evaluation: a junction zero at the instant
@@ -164,6 +172,57 @@ fn turn_on_exact(world: &Geo, [u, v, w]: [Att; 3], t: &Time, side: Side) -> Sign
             before
         }
     })
+}
+
+/// The exact sign of the turn `pts` just on `side` of `t` where two of its
+/// points are the ends of an approximation edge on the line of a real
+/// polygon edge ([`Geo::edge_line`]): the turn of the third point with
+/// the real edge, computed on the polygon's own vertices under their key
+/// in the instant's memo, where every approximation edge on that line
+/// finds it. A pop puts new approximation vertices on the line that failed
+/// at the instant: their turns with the other body's vertex are zero there.
+/// `None` where no two points of the turn are such an edge.
+pub(crate) fn turn_on_edge_line(world: &Geo, pts: [Att; 3], t: &Time, side: Side) -> Option<Sign> {
+    let line = world.edge_line(pts)?;
+    let after = side == Side::After;
+    let body = world.body(line.body);
+    let sign = super::memo::turn(line.keys, line.frames, t, after, || {
+        let poly = crate::motion::orient_poly(
+            &lin(world, line.x),
+            &body.frame.vertex(&body.shape, line.from),
+            &body.frame.vertex(&body.shape, line.to),
+        );
+        let [before, just_after] = poly.signs_around(t);
+        super::memo::record(
+            line.keys,
+            line.frames,
+            t,
+            !after,
+            if after { before } else { just_after },
+        );
+        if after {
+            just_after
+        } else {
+            before
+        }
+    });
+    #[cfg(debug_assertions)]
+    {
+        let direct = crate::motion::orient_poly(
+            &lin(world, pts[0]),
+            &lin(world, pts[1]),
+            &lin(world, pts[2]),
+        )
+        .signs_around(t);
+        debug_assert_eq!(
+            sign,
+            direct[usize::from(after)],
+            "the turn of {pts:?} is not that of the real edge {} → {} of its line",
+            line.from,
+            line.to
+        );
+    }
+    Some(sign)
 }
 
 /// Whether `v` is strictly between `u` and `w` just after `t` (for three

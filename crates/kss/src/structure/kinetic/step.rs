@@ -283,6 +283,15 @@ impl Kinetic {
             s.cert.p,
             s.owners
         );
+        // (a failure root: the certificate's turn has its sign just before
+        // the instant and the opposite just after it; the instant's memo of
+        // turns learns both, for the certificate's points and for the real
+        // edge of an approximation edge among them, where a pop at this
+        // instant puts new points on that line)
+        if root_at(world, &s.cert, s.fp.as_deref(), Some(&t), &t) {
+            world.memo_record(p, &t, false, s.cert.sign);
+            world.memo_record(p, &t, true, s.cert.sign.neg());
+        }
         if tie == 0 {
             let cert = s.cert;
             let failure = classify(world, &cert, &t);
