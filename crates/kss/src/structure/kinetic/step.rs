@@ -283,14 +283,16 @@ impl Kinetic {
             s.cert.p,
             s.owners
         );
-        // (a failure root: the certificate's turn has its sign just before
-        // the instant and the opposite just after it; the instant's memo of
-        // turns learns both, for the certificate's points and for the real
-        // edge of an approximation edge among them, where a pop at this
-        // instant puts new points on that line)
-        if root_at(world, &s.cert, s.fp.as_deref(), Some(&t), &t) {
-            world.memo_record(p, &t, false, s.cert.sign);
-            world.memo_record(p, &t, true, s.cert.sign.neg());
+        // (a failure root of a turn on an approximation edge's line: the
+        // turn has its sign just before the instant and the opposite just
+        // after it; the instant's memo of turns learns both for the real
+        // edge of that line, where a pop at this instant puts new points)
+        if let Some(line) = world.edge_line(p) {
+            if root_at(world, &s.cert, s.fp.as_deref(), Some(&t), &t) {
+                let sign = s.cert.sign;
+                crate::structure::memo::record(line.keys, line.frames, &t, false, sign);
+                crate::structure::memo::record(line.keys, line.frames, &t, true, sign.neg());
+            }
         }
         if tie == 0 {
             let cert = s.cert;
