@@ -25,13 +25,9 @@ pub fn turn_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> Sign {
     if let Some(s) = world.orient_filtered(u, v, w, t.interval()) {
         return s;
     }
-    if let Some(s) = world.memo_peek([u, v, w], t, true) {
-        super::counters::bump(super::counters::Counter::TurnsMemo);
-        return s;
-    }
-    if let Some(s) = super::local::turn_on_edge_line(world, [u, v, w], t, super::local::Side::After)
+    if let Some(s) =
+        super::local::turn_known_or_on_edge_line(world, [u, v, w], t, super::local::Side::After)
     {
-        world.memo_record([u, v, w], t, true, s);
         return s;
     }
     world.memo_turn([u, v, w], t, true, || {

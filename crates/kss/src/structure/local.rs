@@ -144,34 +144,54 @@ fn turn_on_past_mid_rad(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Sid
 /// filters leave it undecided: the instant's memo, or the exact sign.
 fn turn_on_exact(world: &Geo, [u, v, w]: [Att; 3], t: &Time, side: Side) -> Sign {
     world.shapes.faces.note_exact_read();
+    if let Some(s) = turn_known_or_on_edge_line(world, [u, v, w], t, side) {
+        return s;
+    }
     let after = side == Side::After;
-    if let Some(s) = world.memo_peek([u, v, w], t, after) {
-        super::counters::bump(super::counters::Counter::TurnsMemo);
-        return s;
-    }
-    if let Some(s) = turn_on_edge_line(world, [u, v, w], t, side) {
-        world.memo_record([u, v, w], t, after, s);
-        return s;
-    }
     // (the instant's memo of exact turns, which `turn_after` shares)
     world.memo_turn([u, v, w], t, after, || {
         let p = crate::motion::orient_poly(&lin(world, u), &lin(world, v), &lin(world, w));
         // (both sides from one evaluation: a junction zero at the instant
         // is asked on both sides, a pop reading just before it and the
         // normalization after it; the memo keeps the other side)
-        let [before, just_after] = p.signs_around(t);
-        world.memo_record(
-            [u, v, w],
-            t,
-            !after,
-            if after { before } else { just_after },
-        );
-        if after {
-            just_after
-        } else {
-            before
-        }
+        asked_side(&p, t, after, |other| {
+            world.memo_record([u, v, w], t, !after, other)
+        })
     })
+}
+
+/// The sign of the turn `pts` just on `side` of `t` from the instant's
+/// memo, or read exactly on the real edge of an approximation edge's line
+/// ([`turn_on_edge_line`]) and then remembered for `pts` too; `None` where
+/// neither answers (the caller evaluates the turn itself).
+pub(crate) fn turn_known_or_on_edge_line(
+    world: &Geo,
+    pts: [Att; 3],
+    t: &Time,
+    side: Side,
+) -> Option<Sign> {
+    let after = side == Side::After;
+    if let Some(s) = world.memo_peek(pts, t, after) {
+        super::counters::bump(super::counters::Counter::TurnsMemo);
+        return Some(s);
+    }
+    let s = turn_on_edge_line(world, pts, t, side)?;
+    world.memo_record(pts, t, after, s);
+    Some(s)
+}
+
+/// The sign of `poly` just after `t` (`after`) or just before it, from one
+/// evaluation of both sides; `other` is given the sign on the other side
+/// (for the instant's memo).
+fn asked_side(poly: &crate::num::Poly, t: &Time, after: bool, other: impl FnOnce(Sign)) -> Sign {
+    let [before, just_after] = poly.signs_around(t);
+    if after {
+        other(before);
+        just_after
+    } else {
+        other(just_after);
+        before
+    }
 }
 
 /// The exact sign of the turn `pts` just on `side` of `t` where two of its
@@ -182,7 +202,7 @@ fn turn_on_exact(world: &Geo, [u, v, w]: [Att; 3], t: &Time, side: Side) -> Sign
 /// finds it. A pop puts new approximation vertices on the line that failed
 /// at the instant: their turns with the other body's vertex are zero there.
 /// `None` where no two points of the turn are such an edge.
-pub(crate) fn turn_on_edge_line(world: &Geo, pts: [Att; 3], t: &Time, side: Side) -> Option<Sign> {
+fn turn_on_edge_line(world: &Geo, pts: [Att; 3], t: &Time, side: Side) -> Option<Sign> {
     let line = world.edge_line(pts)?;
     let after = side == Side::After;
     let body = world.body(line.body);
@@ -192,19 +212,9 @@ pub(crate) fn turn_on_edge_line(world: &Geo, pts: [Att; 3], t: &Time, side: Side
             &body.frame.vertex(&body.shape, line.from),
             &body.frame.vertex(&body.shape, line.to),
         );
-        let [before, just_after] = poly.signs_around(t);
-        super::memo::record(
-            line.keys,
-            line.frames,
-            t,
-            !after,
-            if after { before } else { just_after },
-        );
-        if after {
-            just_after
-        } else {
-            before
-        }
+        asked_side(&poly, t, after, |other| {
+            super::memo::record(line.keys, line.frames, t, !after, other)
+        })
     });
     #[cfg(debug_assertions)]
     {
