@@ -95,6 +95,13 @@ pub struct Counters {
     /// other methods.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub build_seconds: Option<f64>,
+    /// The library's structures: the wall time, in seconds, of this run's
+    /// events after its construction, up to its end
+    /// (`RunStats::events_seconds`: the events with their responses, not
+    /// freeing the structure afterwards); `None` for the other methods and
+    /// in results recorded without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub events_seconds: Option<f64>,
 }
 
 impl Counters {
@@ -110,12 +117,21 @@ impl Counters {
     }
 
     /// Wall time per event after the construction, in nanoseconds, from one
-    /// run: `(wall − build) / events` with the construction timed inside
-    /// the run that took `wall_seconds` ([`Counters::build_seconds`]);
-    /// `None` without that time or without events.
+    /// run: the run's events time over its events
+    /// ([`Counters::events_seconds`]); in results recorded without it,
+    /// `(wall − build) / events` with the construction timed inside the run
+    /// that took `wall_seconds` ([`Counters::build_seconds`]). `None`
+    /// without those times or without events.
     pub fn ns_per_event_after_build(&self, wall_seconds: f64) -> Option<f64> {
-        let b = self.build_seconds?;
-        (self.events > 0).then(|| (wall_seconds - b).max(0.0) * 1e9 / self.events as f64)
+        if self.events == 0 {
+            return None;
+        }
+        let after = match (self.events_seconds, self.build_seconds) {
+            (Some(e), _) => e,
+            (None, Some(b)) => (wall_seconds - b).max(0.0),
+            (None, None) => return None,
+        };
+        Some(after * 1e9 / self.events as f64)
     }
 }
 
@@ -175,16 +191,20 @@ impl Deadline {
 mod tests {
     use super::Counters;
 
-    /// The time per event after the construction is the run's wall time
-    /// less its own construction, over its events; nothing without the
-    /// construction's time or without events.
+    /// The time per event after the construction is the run's events time
+    /// over its events; in results without that time, the run's wall time
+    /// less its own construction over its events; nothing without either
+    /// time or without events.
     #[test]
-    fn time_after_build_is_the_runs_wall_less_its_construction_per_event() {
+    fn time_after_build_is_the_runs_events_time_per_event() {
         let mut c = Counters {
             events: 4,
             build_seconds: Some(0.25),
+            events_seconds: Some(0.125),
             ..Default::default()
         };
+        assert_eq!(c.ns_per_event_after_build(0.5), Some(0.03125e9));
+        c.events_seconds = None;
         assert_eq!(c.ns_per_event_after_build(0.5), Some(0.0625e9));
         c.events = 0;
         assert_eq!(c.ns_per_event_after_build(0.5), None);

@@ -162,6 +162,7 @@ fn run_library(
             pair_tests: pair_tests.unwrap_or(0),
             events_by_kind: stats.events_by_kind,
             build_seconds: Some(stats.build_seconds),
+            events_seconds: Some(stats.events_seconds),
         },
     ))
 }

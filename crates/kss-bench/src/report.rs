@@ -799,14 +799,15 @@ fn flypast_section(s: &mut String, run: &BenchRun, workloads: &[(String, Option<
          change); `pops`: the hierarchy's refined approximation vertices (`pop` while \
          running plus `initial_pop` before the start; part of `events`); `certs`: \
          `certificates_max`; `wall`: the whole run (world with validation, \
-         construction, events); `build`: with `--build-time`, a separate run of the \
-         same structure up to the smallest positive double (world, validation, \
-         structure and certificates, no events); `ns/ev`: wall / events; `ns/ev \
-         after build`: the wall time of the run after its own construction (timed \
-         inside the run, before its first event) over events; for runs recorded \
-         without that time, (wall − build) / events, `—` where the run was not \
-         slower than the separate construction; `other kinds`: the rest of \
-         `events_by_kind`.\n"
+         construction, events, freeing the structure); `build`: with `--build-time`, \
+         a separate run of the same structure up to the smallest positive double \
+         (world, validation, structure and certificates, no events); `ns/ev`: wall / \
+         events; `ns/ev after build`: the wall time of the run's events (timed inside \
+         the run, from the end of its construction to the end of its last event; \
+         freeing the structure afterwards is not in it) over events; for runs \
+         recorded without that time, the run's wall time less its own construction, \
+         or else (wall − build), over events, `—` where the run was not slower than \
+         the separate construction; `other kinds`: the rest of `events_by_kind`.\n"
     );
     let _ = writeln!(
         s,

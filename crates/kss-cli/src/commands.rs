@@ -155,6 +155,7 @@ pub fn stats_json(stats: &RunStats, wall_seconds: f64) -> String {
         "stand_in_ends": stats.stand_in_ends,
         "work": stats.work,
         "build_seconds": stats.build_seconds,
+        "events_seconds": stats.events_seconds,
         "wall_seconds": wall_seconds,
     });
     let mut s = serde_json::to_string_pretty(&v).expect("stats serialize");
