@@ -36,11 +36,13 @@ fn removed(s: &Scenario, ev: &Events) -> u64 {
     gone.len() as u64
 }
 
-/// Random polygons (with and without walls): every removal is local, and
-/// the events are the reference's.
+/// Random polygons (with and without walls): every removal is local, the
+/// two polygons of a collision mostly in one region together, and the
+/// events are the reference's.
 #[test]
 fn removals_in_a_gas_are_local() {
     let mut total = 0;
+    let (mut together, mut pairs) = (0, 0);
     for seed in 0..12 {
         let s = gas(&GasParams {
             k: 40,
@@ -64,10 +66,22 @@ fn removals_in_a_gas_are_local() {
                 structure.name()
             );
             assert_eq!(stats.rebuilds, 0, "{} on gas seed {seed}", structure.name());
+            together += stats.work["set_removals"];
         }
         total += removed(&s, &want);
+        // (the collisions that remove two polygons, for both structures)
+        let fixed = |id: &str| s.polygons.iter().any(|p| p.id == id && p.fixed);
+        pairs += 2 * want
+            .iter()
+            .filter(|(_, a, b)| !fixed(a) && !fixed(b))
+            .count() as u64;
     }
     assert!(total >= 100, "only {total} removals exercised");
+    eprintln!("{together} of {pairs} pairs removed together");
+    assert!(
+        together * 10 >= pairs * 9,
+        "only {together} of {pairs} pairs removed in one region"
+    );
 }
 
 /// The small scenarios of the differential tests in `remove` mode, the

@@ -12,7 +12,7 @@ use super::{world_time, Collisions, Finder, RunError};
 use crate::brute::{Brute, PairMethod};
 use crate::num::{Rational, Time};
 use crate::structure::geo::{Geo, Shapes};
-use crate::structure::kinetic::{Kinetic, PendingPops, Rebuild, Step};
+use crate::structure::kinetic::{Kinetic, PendingPops, Rebuild, SetRemoval, Step};
 use crate::structure::ops::EventKind;
 use crate::structure::{refine, Att, Obj, StructureError};
 use crate::world::{BodyId, World};
@@ -994,14 +994,30 @@ impl KineticEngine {
     ) -> Result<(), RunError> {
         if bodies.iter().any(|&b| !world.body(b).alive) {
             let t = world_time(now)?;
-            // one body at a time, in place (the others that go are still
-            // seen as the structure sees them while it is removed)
+            let dead: Vec<BodyId> = bodies
+                .iter()
+                .copied()
+                .filter(|&b| !world.body(b).alive)
+                .collect();
+            // all together, in place (two polygons that collide in `remove`
+            // mode touch: one region for both); where their region has no
+            // plan, one at a time (the others that go are still seen as the
+            // structure sees them while one is removed)
             let mut local = true;
-            for &b in bodies {
-                if world.body(b).alive {
-                    continue;
+            let mut singly = true;
+            if dead.len() > 1 {
+                let geo = Geo {
+                    world,
+                    shapes: &self.shapes,
+                };
+                match self.k.remove_bodies(&geo, &dead, now).map_err(internal)? {
+                    SetRemoval::Removed => singly = false,
+                    SetRemoval::NoPlan => {}
+                    SetRemoval::Failed => (local, singly) = (false, false),
                 }
-                if local {
+            }
+            for &b in &dead {
+                if local && singly {
                     let geo = Geo {
                         world,
                         shapes: &self.shapes,

@@ -41,10 +41,14 @@ pub(crate) enum Counter {
     /// Corridors normalized again after a pop, as owners of the
     /// certificates on the popped body's changed vertices.
     PopOwners,
+    /// Removals of several bodies at one instant in one region (the two
+    /// polygons of a collision in `remove` mode), each body also counted
+    /// in `local_removals`.
+    SetRemovals,
 }
 
 /// The names of the counters, in the order of the counters' indices.
-pub const NAMES: [&str; 12] = [
+pub const NAMES: [&str; 13] = [
     "turns_filtered",
     "turns_undecided",
     "turns_exact",
@@ -57,10 +61,11 @@ pub const NAMES: [&str; 12] = [
     "walks",
     "pop_candidates",
     "pop_owners",
+    "set_removals",
 ];
 
 thread_local! {
-    static COUNTS: [Cell<u64>; 12] = const { [const { Cell::new(0) }; 12] };
+    static COUNTS: [Cell<u64>; 13] = const { [const { Cell::new(0) }; 13] };
 }
 
 /// Count one `c`.
@@ -73,6 +78,6 @@ pub(crate) fn bump(c: Counter) {
 }
 
 /// The counts of this thread so far, in the order of [`NAMES`].
-pub fn snapshot() -> [u64; 12] {
+pub fn snapshot() -> [u64; 13] {
     COUNTS.with(|x| x.each_ref().map(Cell::get))
 }

@@ -16,6 +16,11 @@
 //! corridor outside it (which ended at a removed triangle), so that the
 //! outside corridors that ended at `R` are merged into the new ones.
 //!
+//! Several bodies that leave at one instant (the two of a collision in
+//! `remove` mode, which touch) leave one hole, the union of their regions
+//! ([`Kss::removal_plan_of`]): the corridors between them go with them, and
+//! the region is triangulated once.
+//!
 //! The cost is the size of `R`'s boundary (the facing chains), not the
 //! number of polygons; a removal that cannot be done this way (the region
 //! has no triangulation even shrunk, or fewer than two bodies stay) is
@@ -147,6 +152,19 @@ impl Kss {
         p: BodyId,
         now: &Time,
     ) -> Result<RemovalPlan, StructureError> {
+        self.removal_plan_of(world, &[p], now)
+    }
+
+    /// Plan the removal of the bodies `set` together at time `t`: one
+    /// region, the union of each body's ([`Kss::removal_plan`]), triangulated
+    /// once; the corridors between two bodies of the set go with them.
+    /// `world` must still see every other body as the structure does.
+    pub fn removal_plan_of(
+        &self,
+        world: &Geo,
+        set: &[BodyId],
+        now: &Time,
+    ) -> Result<RemovalPlan, StructureError> {
         let t = now
             .as_rational()
             .ok_or_else(|| StructureError::Local("an irrational instant".into()))?;
@@ -154,7 +172,7 @@ impl Kss {
         if alive < 2 {
             return Err(StructureError::Local(format!("{alive} bodies stay")));
         }
-        self.region_plan(world, &[p], t, Region::Remove)
+        self.region_plan(world, set, t, Region::Remove)
             .map_err(|e| StructureError::Local(e.reason))
     }
 
@@ -543,9 +561,10 @@ impl Kss {
         if dead_corrs.len() != star.len() + merged.len() {
             return Err("a corridor both on the body and beyond a bridge".into());
         }
-        // (signed: an insertion adds two triangles and three corridors)
+        // (signed: each body removed takes two triangles and three
+        // corridors, an insertion adds them)
         let (gone_tris, gone_corrs): (isize, isize) = match region {
-            Region::Remove => (2, 3),
+            Region::Remove => (2 * set.len() as isize, 3 * set.len() as isize),
             Region::Keep => (0, 0),
             Region::Insert => (-2, -3),
         };

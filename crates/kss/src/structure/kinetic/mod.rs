@@ -42,6 +42,7 @@ mod store;
 mod tally;
 
 pub(crate) use repair::PendingPops;
+pub use repair::SetRemoval;
 pub use tally::{Rebuild, Tally};
 
 use instant::InstantState;

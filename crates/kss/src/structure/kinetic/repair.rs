@@ -97,6 +97,18 @@ pub(crate) struct PendingPops {
     owners: BTreeSet<Owner>,
 }
 
+/// What [`Kinetic::remove_bodies`] did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetRemoval {
+    /// The bodies are out of the structure.
+    Removed,
+    /// Their region has no plan: the structure is unchanged.
+    NoPlan,
+    /// The removal could not be done in place: the structure may be half
+    /// changed (the caller rebuilds it).
+    Failed,
+}
+
 impl Kinetic {
     /// Pop approximation vertex `a` (in `shapes`) at `t` and update the
     /// structure in place ([`crate::structure::Kss::pop_vertex`]): the touched corridors are
@@ -253,11 +265,51 @@ impl Kinetic {
                 return Ok(false);
             }
         };
-        if !self.splice(world, plan, b, true, now)? {
+        if !self.splice(world, plan, b, &[b], now)? {
             return Ok(false);
         }
         self.tally.local_removals += 1;
         Ok(true)
+    }
+
+    /// Remove the bodies `set` (already dead in `world`, every other body
+    /// seen as the structure sees it) at `now` together, as
+    /// [`Kinetic::remove_body`] removes one, with one region for all of
+    /// them ([`crate::structure::Kss::removal_plan_of`]): two polygons
+    /// that collide in `remove` mode touch, and the corridors between them
+    /// that removing one would make the other's removal takes away again
+    /// are never made. [`SetRemoval::NoPlan`] when their region has no
+    /// plan (the structure is unchanged: remove them one at a time),
+    /// [`SetRemoval::Failed`] when the splice failed (the caller rebuilds;
+    /// the structure may be half changed).
+    pub fn remove_bodies(
+        &mut self,
+        world: &Geo,
+        set: &[BodyId],
+        now: &Time,
+    ) -> Result<SetRemoval, StructureError> {
+        if self.instant.broken.is_some() {
+            return Ok(SetRemoval::Failed);
+        }
+        if world.bodies().iter().filter(|x| x.alive).count() < 2 {
+            // nothing stays to separate: the empty structure
+            self.replace_with(Kinetic::default());
+            self.tally.local_removals += set.len() as u64;
+            return Ok(SetRemoval::Removed);
+        }
+        let plan = match self.kss.removal_plan_of(world, set, now) {
+            Ok(plan) => plan,
+            Err(_e) => {
+                trace!("removal of {set:?} at {} not local: {_e}", now.to_f64());
+                return Ok(SetRemoval::NoPlan);
+            }
+        };
+        if !self.splice(world, plan, set[0], set, now)? {
+            return Ok(SetRemoval::Failed);
+        }
+        crate::structure::counters::bump(crate::structure::counters::Counter::SetRemovals);
+        self.tally.local_removals += set.len() as u64;
+        Ok(SetRemoval::Removed)
     }
 
     /// Repair the structure for just after `now` by retriangulating the
@@ -404,7 +456,7 @@ impl Kinetic {
                     hi_b = at_t;
                     continue;
                 }
-                if !self.splice(world, plan, b, false, now)? {
+                if !self.splice(world, plan, b, &[], now)? {
                     return Ok(false);
                 }
                 self.tally.local_repairs += 1;
@@ -471,7 +523,7 @@ impl Kinetic {
                         .collect();
                     break;
                 }
-                if !self.splice(world, plan, b, false, now)? {
+                if !self.splice(world, plan, b, &[], now)? {
                     return Ok(false);
                 }
                 self.tally.local_insertions += 1;
@@ -490,8 +542,8 @@ impl Kinetic {
     }
 
     /// Replace the triangles and corridors that `plan` takes out by its new
-    /// ones (for the removal of body `b` when `removed`, else for a
-    /// retriangulation around it): the slots are renumbered, the new
+    /// ones (for the removal of the bodies `removed`, or, when there are
+    /// none, for a retriangulation around body `b`): the slots are renumbered, the new
     /// corridors normalized, and their certificates and the new triangles'
     /// scheduled, taking over those they share with what went. `false` when
     /// the result does not hold just after `now`.
@@ -500,9 +552,11 @@ impl Kinetic {
         world: &Geo,
         plan: crate::structure::remove::RemovalPlan,
         b: BodyId,
-        removed: bool,
+        removed: &[BodyId],
         now: &Time,
     ) -> Result<bool, StructureError> {
+        // (`b` names the splice in traces)
+        let _ = b;
         // the certificates of what goes lose their owners but stay for the
         // moment: the new triangles and corridors take over the ones they
         // share (most of a merged corridor's junctions) without computing
@@ -569,12 +623,12 @@ impl Kinetic {
                 None => {}
             }
         }
-        if removed {
-            if self.by_body.get(&b).is_some_and(|s| !s.is_empty()) {
-                trace!("removal of {b:?}: certificates on it stay");
+        for gone in removed {
+            if self.by_body.get(gone).is_some_and(|s| !s.is_empty()) {
+                trace!("removal of {gone:?}: certificates on it stay");
                 return Ok(false);
             }
-            self.by_body.remove(&b);
+            self.by_body.remove(gone);
         }
         // the new structure must hold just after `now`: no new certificate
         // fails at once (only those due now can) but the ones taken over and
