@@ -366,16 +366,18 @@ impl Kinetic {
     ) -> Result<(), StructureError> {
         self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
         self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
+        for ti in 0..self.kss.tris.len() {
+            self.refresh(world, Owner::Tri(TriId(ti as u32)), now)?;
+        }
+        // each corridor's certificates right after its normalization: they
+        // are the junctions its faces were found valid with, read from the
+        // validity cache while it still holds them (it keeps a few hundred
+        // corridors)
         for ki in 0..self.kss.corrs.len() {
             let steps = self.kss.normalize(world, CorrId(ki as u32), now, None)?;
             if steps > 0 {
                 self.tally.searches += 1;
             }
-        }
-        for ti in 0..self.kss.tris.len() {
-            self.refresh(world, Owner::Tri(TriId(ti as u32)), now)?;
-        }
-        for ki in 0..self.kss.corrs.len() {
             self.refresh(world, Owner::Corr(CorrId(ki as u32)), now)?;
         }
         Ok(())
