@@ -152,3 +152,58 @@ fn removal_among_collinear_squares_is_local() {
         assert_eq!(stats.rebuilds, 0, "{}", structure.name());
     }
 }
+
+/// Two pairs of squares that collide at one instant far apart, beside a
+/// pair that collides earlier and five squares that stay: each pair
+/// leaves in a region of its own (the two pairs' regions together are not
+/// one region), with the reference's events and the audit after every
+/// event.
+#[test]
+fn pairs_colliding_at_one_instant_leave_one_region_each() {
+    let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let mut polygons = Vec::new();
+    let mut add = |vertices: &Vec<[f64; 2]>, position: [f64; 2], velocity: [f64; 2]| {
+        polygons.push(kss::PolygonSpec {
+            id: format!("p{}", polygons.len()),
+            vertices: vertices.clone(),
+            position,
+            velocity,
+            fixed: false,
+        })
+    };
+    // a → b and c → d at t = 2, far apart
+    add(&square, [0.0, 0.0], [1.0, 0.0]);
+    add(&square, [3.0, 0.0], [0.0, 0.0]);
+    add(&square, [0.0, 5.0], [1.0, 0.0]);
+    add(&square, [3.0, 5.0], [0.0, 0.0]);
+    // a triangle that stays between them, and a pair that meets at t = 1
+    let triangle = vec![[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]];
+    add(&triangle, [1.5, 2.2], [0.0, 0.0]);
+    add(&triangle, [8.0, 2.0], [-1.0, 0.0]);
+    add(&square, [10.5, 2.0], [-1.5, 0.0]);
+    for p in [
+        [20.0, 0.0],
+        [20.0, 6.0],
+        [-6.0, 3.0],
+        [6.0, 9.0],
+        [6.0, -4.0],
+    ] {
+        add(&square, p, [0.0, 0.0]);
+    }
+    let s = Scenario {
+        until: 5.0,
+        on_collision: CollisionMode::Remove,
+        polygons,
+        flight_plan_changes: Vec::new(),
+        ..Default::default()
+    };
+    let (want, _) = events(&s, StructureKind::Brute, false);
+    assert_eq!(want.len(), 3);
+    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
+        let (got, stats) = events(&s, structure, true);
+        assert_eq!(got, want, "{}", structure.name());
+        assert_eq!(stats.local_removals, 6, "{}", structure.name());
+        assert_eq!(stats.work["set_removals"], 3, "{}", structure.name());
+        assert_eq!(stats.rebuilds, 0, "{}", structure.name());
+    }
+}

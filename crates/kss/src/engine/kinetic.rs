@@ -999,33 +999,38 @@ impl KineticEngine {
                 .copied()
                 .filter(|&b| !world.body(b).alive)
                 .collect();
-            // all together, in place (two polygons that collide in `remove`
-            // mode touch: one region for both); where their region has no
-            // plan, one at a time (the others that go are still seen as the
-            // structure sees them while one is removed)
+            // the polygons of each group of collisions together, in place
+            // (two polygons that collide in `remove` mode touch: one region
+            // for both); where a group's region has no plan, one at a time
+            // (the others that go are still seen as the structure sees
+            // them while one is removed)
             let mut local = true;
-            let mut singly = true;
-            if dead.len() > 1 {
-                let geo = Geo {
-                    world,
-                    shapes: &self.shapes,
-                };
-                match self.k.remove_bodies(&geo, &dead, now).map_err(internal)? {
-                    SetRemoval::Removed => singly = false,
-                    SetRemoval::NoPlan => {}
-                    SetRemoval::Failed => (local, singly) = (false, false),
-                }
-            }
-            for &b in &dead {
-                if local && singly {
+            for group in removal_groups(&dead, reported) {
+                let mut singly = true;
+                if local && group.len() > 1 {
                     let geo = Geo {
                         world,
                         shapes: &self.shapes,
                     };
-                    local = self.k.remove_body(&geo, b, now).map_err(internal)?;
+                    match self.k.remove_bodies(&geo, &group, now).map_err(internal)? {
+                        SetRemoval::Removed => singly = false,
+                        SetRemoval::NoPlan => {}
+                        SetRemoval::Failed => local = false,
+                    }
                 }
-                if let Some(slot) = self.shapes.per.get_mut(b.index()) {
-                    *slot = None;
+                for &b in &group {
+                    if local && singly {
+                        let geo = Geo {
+                            world,
+                            shapes: &self.shapes,
+                        };
+                        local = self.k.remove_body(&geo, b, now).map_err(internal)?;
+                    }
+                }
+                for &b in &group {
+                    if let Some(slot) = self.shapes.per.get_mut(b.index()) {
+                        *slot = None;
+                    }
                 }
             }
             let geo = Geo {
@@ -1125,5 +1130,61 @@ fn add_pairs(pairs: &mut Vec<(BodyId, BodyId)>, new: Vec<(BodyId, BodyId)>) {
         if !pairs.contains(&p) && !pairs.contains(&(p.1, p.0)) {
             pairs.push(p);
         }
+    }
+}
+
+/// The bodies of `dead` in groups that leave together: those joined by a
+/// pair of `reported` (the collisions of the instant) both of whose bodies
+/// are in `dead`, each group in the order of `dead`, the groups in the
+/// order of their first body.
+fn removal_groups(dead: &[BodyId], reported: &[(BodyId, BodyId)]) -> Vec<Vec<BodyId>> {
+    // (a group's index for each body of `dead`, merged pair by pair: a few
+    // bodies at an instant)
+    let mut group: Vec<usize> = (0..dead.len()).collect();
+    let at = |b: BodyId| dead.iter().position(|&x| x == b);
+    for &(a, b) in reported {
+        if let (Some(i), Some(j)) = (at(a), at(b)) {
+            let (keep, gone) = (group[i].min(group[j]), group[i].max(group[j]));
+            for g in group.iter_mut() {
+                if *g == gone {
+                    *g = keep;
+                }
+            }
+        }
+    }
+    let mut out: Vec<Vec<BodyId>> = Vec::new();
+    let mut index: Vec<(usize, usize)> = Vec::new();
+    for (i, &b) in dead.iter().enumerate() {
+        match index.iter().find(|(g, _)| *g == group[i]) {
+            Some(&(_, k)) => out[k].push(b),
+            None => {
+                index.push((group[i], out.len()));
+                out.push(vec![b]);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::removal_groups;
+    use crate::world::BodyId;
+
+    /// Bodies that collided with each other at the instant leave in one
+    /// group, chains of collisions too; a body in no pair of the dead
+    /// (a wall's partner, an explicit removal) leaves alone.
+    #[test]
+    fn removal_groups_follow_the_collisions_among_the_dead() {
+        let b = BodyId;
+        let dead = [b(4), b(1), b(7), b(2), b(9), b(5)];
+        // 4–2 and 2–9 chain; 1–7; 5 hit a body that stays (3)
+        let reported = [(b(2), b(9)), (b(1), b(7)), (b(5), b(3)), (b(4), b(2))];
+        assert_eq!(
+            removal_groups(&dead, &reported),
+            vec![vec![b(4), b(2), b(9)], vec![b(1), b(7)], vec![b(5)]]
+        );
+        assert_eq!(removal_groups(&dead[..1], &[]), vec![vec![b(4)]]);
+        assert!(removal_groups(&[], &reported).is_empty());
     }
 }

@@ -16,10 +16,11 @@
 //! corridor outside it (which ended at a removed triangle), so that the
 //! outside corridors that ended at `R` are merged into the new ones.
 //!
-//! Several bodies that leave at one instant (the two of a collision in
-//! `remove` mode, which touch) leave one hole, the union of their regions
+//! Several bodies that leave at one instant and touch (the two of a
+//! collision in `remove` mode) leave one hole, the union of their regions
 //! ([`Kss::removal_plan_of`]): the corridors between them go with them, and
-//! the region is triangulated once.
+//! the region is triangulated once. Bodies whose regions are apart have no
+//! such plan (the engine removes each group of collisions by itself).
 //!
 //! The cost is the size of `R`'s boundary (the facing chains), not the
 //! number of polygons; a removal that cannot be done this way (the region
