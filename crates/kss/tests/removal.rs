@@ -36,6 +36,34 @@ fn removed(s: &Scenario, ev: &Events) -> u64 {
     gone.len() as u64
 }
 
+/// The unit square.
+const SQUARE: [[f64; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+
+/// A polygon of a hand-made scene: its vertices, position and velocity.
+type Polygon<'a> = (&'a [[f64; 2]], [f64; 2], [f64; 2]);
+
+/// A `remove` scene until `until` of `polygons`, named `p0`, `p1`, … in
+/// order, none fixed.
+fn remove_scene(until: f64, polygons: &[Polygon]) -> Scenario {
+    Scenario {
+        until,
+        on_collision: CollisionMode::Remove,
+        polygons: polygons
+            .iter()
+            .enumerate()
+            .map(|(i, &(vertices, position, velocity))| kss::PolygonSpec {
+                id: format!("p{i}"),
+                vertices: vertices.to_vec(),
+                position,
+                velocity,
+                fixed: false,
+            })
+            .collect(),
+        flight_plan_changes: Vec::new(),
+        ..Default::default()
+    }
+}
+
 /// Random polygons (with and without walls): every removal is local, the
 /// two polygons of a collision mostly in one region together, and the
 /// events are the reference's.
@@ -118,31 +146,15 @@ fn removals_in_small_scenarios_are_mostly_local() {
 /// removal rebuilt; found in review).
 #[test]
 fn removal_among_collinear_squares_is_local() {
-    let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-    let mut polygons = Vec::new();
-    let mut add = |x: f64, y: f64, vy: f64| {
-        polygons.push(kss::PolygonSpec {
-            id: format!("p{}", polygons.len()),
-            vertices: square.clone(),
-            position: [x, y],
-            velocity: [0.0, vy],
-            fixed: false,
-        })
-    };
+    let mut polygons: Vec<Polygon> = Vec::new();
     for i in 0..8 {
-        add(3.0 * i as f64, 0.0, 0.0);
+        polygons.push((&SQUARE, [3.0 * i as f64, 0.0], [0.0, 0.0]));
     }
-    add(9.0, 5.0, -1.0);
+    polygons.push((&SQUARE, [9.0, 5.0], [0.0, -1.0]));
     for i in 0..8 {
-        add(3.0 * i as f64 + 0.5, 10.0, 0.0);
+        polygons.push((&SQUARE, [3.0 * i as f64 + 0.5, 10.0], [0.0, 0.0]));
     }
-    let s = Scenario {
-        until: 10.0,
-        on_collision: CollisionMode::Remove,
-        polygons,
-        flight_plan_changes: Vec::new(),
-        ..Default::default()
-    };
+    let s = remove_scene(10.0, &polygons);
     let (want, _) = events(&s, StructureKind::Brute, false);
     assert_eq!(want.len(), 1);
     for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
@@ -160,27 +172,18 @@ fn removal_among_collinear_squares_is_local() {
 /// event.
 #[test]
 fn pairs_colliding_at_one_instant_leave_one_region_each() {
-    let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-    let mut polygons = Vec::new();
-    let mut add = |vertices: &Vec<[f64; 2]>, position: [f64; 2], velocity: [f64; 2]| {
-        polygons.push(kss::PolygonSpec {
-            id: format!("p{}", polygons.len()),
-            vertices: vertices.clone(),
-            position,
-            velocity,
-            fixed: false,
-        })
-    };
-    // a → b and c → d at t = 2, far apart
-    add(&square, [0.0, 0.0], [1.0, 0.0]);
-    add(&square, [3.0, 0.0], [0.0, 0.0]);
-    add(&square, [0.0, 5.0], [1.0, 0.0]);
-    add(&square, [3.0, 5.0], [0.0, 0.0]);
-    // a triangle that stays between them, and a pair that meets at t = 1
-    let triangle = vec![[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]];
-    add(&triangle, [1.5, 2.2], [0.0, 0.0]);
-    add(&triangle, [8.0, 2.0], [-1.0, 0.0]);
-    add(&square, [10.5, 2.0], [-1.5, 0.0]);
+    const TRIANGLE: [[f64; 2]; 3] = [[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]];
+    let mut polygons: Vec<Polygon> = vec![
+        // a → b and c → d at t = 2, far apart
+        (&SQUARE, [0.0, 0.0], [1.0, 0.0]),
+        (&SQUARE, [3.0, 0.0], [0.0, 0.0]),
+        (&SQUARE, [0.0, 5.0], [1.0, 0.0]),
+        (&SQUARE, [3.0, 5.0], [0.0, 0.0]),
+        // a triangle that stays between them, and a pair that meets at t = 1
+        (&TRIANGLE, [1.5, 2.2], [0.0, 0.0]),
+        (&TRIANGLE, [8.0, 2.0], [-1.0, 0.0]),
+        (&SQUARE, [10.5, 2.0], [-1.5, 0.0]),
+    ];
     for p in [
         [20.0, 0.0],
         [20.0, 6.0],
@@ -188,15 +191,9 @@ fn pairs_colliding_at_one_instant_leave_one_region_each() {
         [6.0, 9.0],
         [6.0, -4.0],
     ] {
-        add(&square, p, [0.0, 0.0]);
+        polygons.push((&SQUARE, p, [0.0, 0.0]));
     }
-    let s = Scenario {
-        until: 5.0,
-        on_collision: CollisionMode::Remove,
-        polygons,
-        flight_plan_changes: Vec::new(),
-        ..Default::default()
-    };
+    let s = remove_scene(5.0, &polygons);
     let (want, _) = events(&s, StructureKind::Brute, false);
     assert_eq!(want.len(), 3);
     for structure in [StructureKind::Plain, StructureKind::Hierarchical] {

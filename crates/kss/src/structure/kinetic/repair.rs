@@ -249,33 +249,13 @@ impl Kinetic {
         b: BodyId,
         now: &Time,
     ) -> Result<bool, StructureError> {
-        if self.instant.broken.is_some() {
-            return Ok(false);
-        }
-        if world.bodies().iter().filter(|x| x.alive).count() < 2 {
-            // nothing stays to separate: the empty structure
-            self.replace_with(Kinetic::default());
-            self.tally.local_removals += 1;
-            return Ok(true);
-        }
-        let plan = match self.kss.removal_plan(world, b, now) {
-            Ok(plan) => plan,
-            Err(_e) => {
-                trace!("removal of {b:?} at {} not local: {_e}", now.to_f64());
-                return Ok(false);
-            }
-        };
-        if !self.splice(world, plan, b, &[b], now)? {
-            return Ok(false);
-        }
-        self.tally.local_removals += 1;
-        Ok(true)
+        Ok(self.remove_bodies(world, &[b], now)? == SetRemoval::Removed)
     }
 
     /// Remove the bodies `set` (already dead in `world`, every other body
-    /// seen as the structure sees it) at `now` together, as
-    /// [`Kinetic::remove_body`] removes one, with one region for all of
-    /// them ([`crate::structure::Kss::removal_plan_of`]): two polygons
+    /// seen as the structure sees it) at `now` together, with one region
+    /// for all of them ([`crate::structure::Kss::removal_plan_of`]; for
+    /// one body, [`Kinetic::remove_body`]): two polygons
     /// that collide in `remove` mode touch, and the corridors between them
     /// that removing one would make the other's removal takes away again
     /// are never made. [`SetRemoval::NoPlan`] when their region has no
@@ -307,7 +287,9 @@ impl Kinetic {
         if !self.splice(world, plan, set[0], set, now)? {
             return Ok(SetRemoval::Failed);
         }
-        crate::structure::counters::bump(crate::structure::counters::Counter::SetRemovals);
+        if set.len() > 1 {
+            crate::structure::counters::bump(crate::structure::counters::Counter::SetRemovals);
+        }
         self.tally.local_removals += set.len() as u64;
         Ok(SetRemoval::Removed)
     }
