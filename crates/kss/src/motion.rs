@@ -211,6 +211,15 @@ impl Frame {
         })
     }
 
+    /// The origin and velocity `[ox, oy, vx, vy]` as doubles: the
+    /// midpoints of this frame's enclosures of them, within a few units in
+    /// the last place (NaN where an enclosure is not finite). For box
+    /// filters widened by far more than that, never for decisions.
+    pub fn motion_f64(&self) -> [f64; 4] {
+        let [[ox, vx], [oy, vy]] = self.mr;
+        [ox.m, oy.m, vx.m, vy.m]
+    }
+
     /// The linear position `(x0 + x1·t, y0 + y1·t)` of the body polygon
     /// vertex given by its input doubles `(x, y)` in midpoint–radius form
     /// `[x0, x1, y0, y1]`: [`Frame::linear_enclosure_of_vertex`] without
@@ -425,6 +434,38 @@ mod tests {
                     assert!(within(e[1], &lp.x1, &lp.w), "x1 of {i}");
                     assert!(within(e[2], &lp.y0, &lp.w), "y0 of {i}");
                     assert!(within(e[3], &lp.y1, &lp.w), "y1 of {i}");
+                }
+            }
+        }
+    }
+
+    /// A frame's origin and velocity as doubles are within a few units in
+    /// the last place of the exact values, for frames through non-dyadic
+    /// instants (large denominators) and polygons of several scales; an
+    /// exact zero velocity stays zero.
+    #[test]
+    fn frame_motion_f64_is_within_a_few_ulps() {
+        let t = Rational::new(Int::from(7), Int::from(3));
+        for scale in [1.0, 3.0e-7, 1.5e9] {
+            let poly = scaled_triangle(scale);
+            for (p, v) in [
+                (pt(0.25, -1.5), pt(1.0 / 3.0, 0.2)),
+                (pt(1e6, 3.0), pt(-0.1, 1e-9)),
+                (pt(-2.5, 1e-3), pt(0.0, 0.0)),
+            ] {
+                let traj = Trajectory::through(&t, &p, v);
+                let got = Frame::new(&traj, &poly).motion_f64();
+                let want = [
+                    traj.origin().x.to_f64(),
+                    traj.origin().y.to_f64(),
+                    traj.velocity().x.to_f64(),
+                    traj.velocity().y.to_f64(),
+                ];
+                for (g, w) in got.iter().zip(&want) {
+                    assert!(
+                        (g - w).abs() <= 8.0 * f64::EPSILON * w.abs(),
+                        "{got:?} against {want:?} at scale {scale}"
+                    );
                 }
             }
         }

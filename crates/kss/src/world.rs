@@ -65,14 +65,9 @@ pub struct Body {
     centroid: std::sync::OnceLock<Point>,
     /// Pending re-anchoring at the end of a bridge (see module docs).
     anchor: Option<(Time, u64)>,
-    /// `traj`'s origin and velocity rounded to doubles, for box filters.
+    /// `traj`'s origin and velocity as doubles ([`Frame::motion_f64`]),
+    /// for box filters.
     motion_f64: [f64; 4],
-}
-
-/// A trajectory's origin and velocity rounded to doubles.
-fn motion_f64(traj: &Trajectory) -> [f64; 4] {
-    let (o, v) = (traj.origin().to_f64(), traj.velocity().to_f64());
-    [o[0], o[1], v[0], v[1]]
 }
 
 impl Body {
@@ -113,7 +108,7 @@ impl Body {
         let traj = Trajectory::through(t, &position, velocity);
         let frame = Arc::new(Frame::new(&traj, &shape));
         let area = shape.twice_area().to_f64() / 2.0;
-        let motion = motion_f64(&traj);
+        let motion = frame.motion_f64();
         Ok(Body {
             motion_f64: motion,
             id: p.id.clone(),
@@ -163,7 +158,7 @@ impl Body {
 
     fn set_traj(&mut self, traj: Trajectory) {
         self.frame = Arc::new(Frame::new(&traj, &self.shape));
-        self.motion_f64 = motion_f64(&traj);
+        self.motion_f64 = self.frame.motion_f64();
         self.traj = traj;
     }
 }
