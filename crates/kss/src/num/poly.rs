@@ -125,16 +125,25 @@ impl Poly {
     /// [`Poly::sign_before`] and [`Poly::sign_after`] of `t`, from one
     /// evaluation at `t` (and of the derivative where that is zero).
     pub fn signs_around(&self, t: &Time) -> [Sign; 2] {
+        let [before, _, after] = self.signs_at_and_around(t);
+        [before, after]
+    }
+
+    /// The signs just before `t`, at `t` and just after `t`
+    /// ([`Poly::sign_before`], [`Poly::sign_at`], [`Poly::sign_after`]),
+    /// from one evaluation at `t` (and of the derivative where that is
+    /// zero).
+    pub fn signs_at_and_around(&self, t: &Time) -> [Sign; 3] {
         let s = self.sign_at(t);
         if s != Sign::Zero {
-            return [s, s];
+            return [s, s, s];
         }
         let s1 = self.derivative().sign_at(t);
         if s1 != Sign::Zero {
-            return [s1.neg(), s1];
+            return [s1.neg(), Sign::Zero, s1];
         }
         let s2 = Sign::of(&self.c[2]);
-        [s2, s2]
+        [s2, Sign::Zero, s2]
     }
 
     /// The distinct real roots, in increasing order (none for the zero
@@ -394,7 +403,7 @@ mod tests {
     }
 
     #[test]
-    fn signs_around_are_the_signs_just_before_and_after() {
+    fn signs_around_are_the_signs_just_before_at_and_just_after() {
         // roots simple and double, rational and irrational, a constant,
         // the zero polynomial; instants at, between and beside the roots
         // (every other root at least 0.08 away from each instant: the signs
@@ -417,6 +426,11 @@ mod tests {
                 let x = at.to_f64();
                 let beside = [t(x - d), t(x + d)].map(|b| q.sign_at(&b));
                 assert_eq!(q.signs_around(at), beside, "{q:?} at {at:?}");
+                assert_eq!(
+                    q.signs_at_and_around(at),
+                    [beside[0], q.sign_at(at), beside[1]],
+                    "{q:?} at {at:?}"
+                );
                 assert_eq!(
                     [q.sign_before(at), q.sign_after(at)],
                     beside,

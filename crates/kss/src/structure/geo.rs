@@ -1142,6 +1142,27 @@ impl<'a> Geo<'a> {
         })
     }
 
+    /// The sign of `orient(u, v, w)` at `t` itself, if the instant's memo
+    /// knows it ([`super::memo`]).
+    pub(crate) fn memo_peek_at(&self, [u, v, w]: [Att; 3], t: &Time) -> Option<Sign> {
+        let keys = [
+            self.point_key(u)?.0,
+            self.point_key(v)?.0,
+            self.point_key(w)?.0,
+        ];
+        super::memo::peek_at(keys, t)
+    }
+
+    /// Tell the instant's memo that `orient(u, v, w)` has sign `s` at `t`
+    /// itself (computed exactly).
+    pub(crate) fn memo_record_at(&self, [u, v, w]: [Att; 3], t: &Time, s: Sign) {
+        if let (Some((ku, fu)), Some((kv, fv)), Some((kw, fw))) =
+            (self.point_key(u), self.point_key(v), self.point_key(w))
+        {
+            super::memo::record_at([ku, kv, kw], [fu, fv, fw], t, s);
+        }
+    }
+
     /// Tell the instant's memo that `orient(u, v, w)` has sign `s` just
     /// after (`after`) or before `t` (computed exactly).
     pub(crate) fn memo_record(&self, [u, v, w]: [Att; 3], t: &Time, after: bool, s: Sign) {

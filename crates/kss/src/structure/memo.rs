@@ -67,6 +67,8 @@ struct Memo {
     /// Sorted triple, after (`true`) or before the instant: the sign of the
     /// sorted triple's orientation.
     signs: FastMap<([PointKey; 3], bool), Sign>,
+    /// Sorted triple: the sign of its orientation at the instant itself.
+    at_signs: FastMap<[PointKey; 3], Sign>,
 }
 
 thread_local! {
@@ -111,6 +113,20 @@ pub(crate) fn peek(keys: [PointKey; 3], t: &Time, after: bool) -> Option<Sign> {
     Some(if odd { s.neg() } else { s })
 }
 
+/// The sign of the orientation of the points `keys` at time `t` itself,
+/// if the memo knows it.
+pub(crate) fn peek_at(keys: [PointKey; 3], t: &Time) -> Option<Sign> {
+    let (k, odd) = sorted(keys);
+    let s = MEMO.with(|m| {
+        let m = m.borrow();
+        if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
+            return None;
+        }
+        m.at_signs.get(&k).copied()
+    })?;
+    Some(if odd { s.neg() } else { s })
+}
+
 /// Remember `s`, the sign of the orientation of the points `keys` (with
 /// frames `frames`) just after (`after`) or before time `t`, computed
 /// exactly.
@@ -122,19 +138,39 @@ pub(crate) fn record(
     s: Sign,
 ) {
     let (k, odd) = sorted(keys);
+    let s = if odd { s.neg() } else { s };
+    with_instant(frames, t, |m| {
+        m.signs.insert((k, after), s);
+    });
+}
+
+/// Remember `s`, the sign of the orientation of the points `keys` (with
+/// frames `frames`) at time `t` itself, computed exactly.
+pub(crate) fn record_at(keys: [PointKey; 3], frames: [&Arc<Frame>; 3], t: &Time, s: Sign) {
+    let (k, odd) = sorted(keys);
+    let s = if odd { s.neg() } else { s };
+    with_instant(frames, t, |m| {
+        m.at_signs.insert(k, s);
+    });
+}
+
+/// `f` on the memo of instant `t` (emptied first if it held another
+/// instant), with `frames` held.
+fn with_instant(frames: [&Arc<Frame>; 3], t: &Time, f: impl FnOnce(&mut Memo)) {
     MEMO.with(|m| {
         let mut m = m.borrow_mut();
         if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
             m.at = Some(t.clone());
             m.frames.clear();
             m.signs.clear();
+            m.at_signs.clear();
         }
-        for f in frames {
+        for fr in frames {
             m.frames
-                .entry(Arc::as_ptr(f) as usize)
-                .or_insert_with(|| f.clone());
+                .entry(Arc::as_ptr(fr) as usize)
+                .or_insert_with(|| fr.clone());
         }
-        m.signs.insert((k, after), if odd { s.neg() } else { s });
+        f(&mut m);
     });
 }
 
@@ -249,6 +285,29 @@ mod tests {
             turn([b, c, a], [&f, &f, &f], &t, true, unused),
             Sign::Negative
         );
+    }
+
+    #[test]
+    fn a_sign_at_the_instant_is_its_own_question() {
+        let f = frame();
+        let t = Time::from_f64(0.625).unwrap();
+        let [a, b, c] = [0, 1, 2].map(|v| PointKey::real(&f, v));
+        record_at([a, b, c], [&f, &f, &f], &t, Sign::Positive);
+        assert_eq!(peek_at([b, c, a], &t), Some(Sign::Positive));
+        assert_eq!(peek_at([b, a, c], &t), Some(Sign::Negative));
+        // neither just after nor just before, nor at another instant
+        assert_eq!(peek([a, b, c], &t, true), None);
+        assert_eq!(peek([a, b, c], &t, false), None);
+        assert_eq!(peek_at([a, b, c], &Time::from_f64(0.875).unwrap()), None);
+        // and a record at another instant empties it
+        record(
+            [a, b, c],
+            [&f, &f, &f],
+            &Time::from_f64(0.75).unwrap(),
+            true,
+            Sign::Zero,
+        );
+        assert_eq!(peek_at([a, b, c], &t), None);
     }
 
     #[test]

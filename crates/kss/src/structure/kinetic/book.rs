@@ -207,9 +207,14 @@ pub(super) fn failure_time(
     }
     bump(Counter::FailureTimesExact);
     let p = cert_poly(world, c);
-    let after = p.sign_after(now);
-    if orient && known.is_none() {
-        world.memo_record(c.p, now, true, signed(after));
+    let [_, at, after] = p.signs_at_and_around(now);
+    if orient {
+        if known.is_none() {
+            world.memo_record(c.p, now, true, signed(after));
+        }
+        // (the sign at `now` too: a motion change asks it next, for the
+        // corridors with a junction straight at `now`)
+        world.memo_record_at(c.p, now, signed(at));
     }
     if after != Sign::Positive {
         // (a partition triangle flat while two of its corners rest on each

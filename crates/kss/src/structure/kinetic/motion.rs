@@ -314,9 +314,37 @@ impl Kinetic {
             if s.cert.kind == CertKind::Order {
                 continue;
             }
-            let lp = |a: Att| world.point(a);
-            let turn = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2]));
-            if turn.is_zero() || turn.sign_at(now) != Sign::Zero {
+            // (the instant's memo knows the exact turn at `now` of a
+            // certificate whose failure time was computed exactly at this
+            // motion change, and often its sign just after `now`, which,
+            // not zero, shows that the turn is not zero for ever)
+            let at = world.memo_peek_at(*p, now);
+            let straight = match at {
+                Some(Sign::Zero)
+                    if world
+                        .memo_peek(*p, now, true)
+                        .is_some_and(|s| s != Sign::Zero) =>
+                {
+                    true
+                }
+                Some(Sign::Zero) | None => {
+                    let lp = |a: Att| world.point(a);
+                    let turn = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2]));
+                    !turn.is_zero() && turn.sign_at(now) == Sign::Zero
+                }
+                Some(_) => false,
+            };
+            #[cfg(debug_assertions)]
+            {
+                let lp = |a: Att| world.point(a);
+                let turn = orient_poly(&lp(p[0]), &lp(p[1]), &lp(p[2]));
+                debug_assert_eq!(
+                    straight,
+                    !turn.is_zero() && turn.sign_at(now) == Sign::Zero,
+                    "the memo's turn of {p:?} at {now:?}"
+                );
+            }
+            if !straight {
                 continue;
             }
             for o in s.owners.iter() {
