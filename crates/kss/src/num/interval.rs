@@ -14,6 +14,28 @@ pub struct Interval {
     pub hi: f64,
 }
 
+/// `floor(|x| / 2^k)` for an integer `x` of `k + 64` bits: its top 64
+/// bits, read from its words (no copy of `x`).
+// (a word is 64 bits here, 16 or 32 on other targets: `u64::from` is a
+// conversion there)
+#[allow(clippy::useless_conversion)]
+fn top_bits(x: &Int, k: usize) -> u64 {
+    let (_, words) = x.as_sign_words();
+    let wb = dashu_int::Word::BITS as usize;
+    let (mut idx, shift) = (k / wb, k % wb);
+    // (the words from the one holding bit `k` on, low to high, until 64
+    // bits are in: at most 64 + a word's bits, within 128)
+    let mut acc = u128::from(u64::from(words[idx]) >> shift);
+    let mut filled = wb - shift;
+    idx += 1;
+    while filled < 64 && idx < words.len() {
+        acc |= u128::from(u64::from(words[idx])) << filled;
+        filled += wb;
+        idx += 1;
+    }
+    acc as u64
+}
+
 #[inline(always)]
 fn down(x: f64) -> f64 {
     if x.is_nan() {
@@ -66,8 +88,7 @@ impl Interval {
             }
         } else {
             let k = bits - 64;
-            let top = if negative { -x.clone() } else { x.clone() } >> k;
-            let m = u64::try_from(&top).expect("64 bits");
+            let m = top_bits(x, k);
             // (products by 2^k, k <= 960, are exact; the upper one may
             // reach infinity)
             let scale = 2f64.powi(k as i32);
@@ -356,6 +377,14 @@ mod tests {
                 x = -x;
             }
             holds(&x);
+            // (the top 64 bits read from the words are those of a shift)
+            let bits = dashu_base::BitTest::bit_len(&x);
+            if bits >= 128 {
+                let k = bits - 64;
+                let magnitude = if x < Int::ZERO { -x.clone() } else { x.clone() };
+                let shifted = u64::try_from(&(magnitude >> k)).expect("64 bits");
+                assert_eq!(top_bits(&x, k), shifted, "{x}");
+            }
         }
     }
 
