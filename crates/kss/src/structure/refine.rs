@@ -118,26 +118,50 @@ fn involved(
     let zero_ok = |u: Att, v: Att, w: Att| {
         on_segment.is_some_and(|on| (real(u) && real(v) && real(w)) || !on(u, v, w))
     };
+    // (each test below asks a whole ring and stops at the first element
+    // that decides it; the rings are convex and asked in order, so the
+    // element that decided the previous test most often decides the next
+    // one too: each search starts there, cyclically. The answers are those
+    // of any order.)
+    let from = |start: &std::cell::Cell<usize>, n: usize| {
+        let s = start.get().min(n.saturating_sub(1));
+        (0..n).map(move |x| (s + x) % n)
+    };
     // an edge of `p` with every vertex of `q` outside, strictly or on its
     // line where allowed
     let separates = |p: (&[Att], &[Option<MidRad>]), q: (&[Att], &[Option<MidRad>])| {
         let n = p.0.len();
+        let inner = std::cell::Cell::new(0);
         (0..n).any(|i| {
             let j = (i + 1) % n;
-            (0..q.0.len()).all(|k| match turn(p, i, j, q, k) {
+            let outside = |k: usize| match turn(p, i, j, q, k) {
                 Sign::Negative => true,
                 Sign::Zero => zero_ok(p.0[i], p.0[j], q.0[k]),
                 Sign::Positive => false,
-            })
+            };
+            match from(&inner, q.0.len()).find(|&k| !outside(k)) {
+                Some(k) => {
+                    inner.set(k);
+                    false
+                }
+                None => true,
+            }
         })
     };
     let (ra, rb) = ((&pa[..], &ma[..]), (&pb[..], &mb[..]));
     if separates(ra, rb) || separates(rb, ra) {
         return None;
     }
+    let facing = std::cell::Cell::new(0);
     let inside = |p: (&[Att], &[Option<MidRad>]), q: (&[Att], &[Option<MidRad>]), k: usize| {
         let n = p.0.len();
-        (0..n).all(|i| turn(p, i, (i + 1) % n, q, k) != Sign::Negative)
+        match from(&facing, n).find(|&i| turn(p, i, (i + 1) % n, q, k) == Sign::Negative) {
+            Some(i) => {
+                facing.set(i);
+                false
+            }
+            None => true,
+        }
     };
     let mut out: Vec<Att> = (0..pb.len())
         .filter(|&k| !real(pb[k]) && inside(ra, rb, k))
