@@ -64,11 +64,26 @@ struct Memo {
     /// The frames of the keys by address (held, so that no address is
     /// reused meanwhile).
     frames: FastMap<usize, Arc<Frame>>,
-    /// Sorted triple, after (`true`) or before the instant: the sign of the
-    /// sorted triple's orientation.
-    signs: FastMap<([PointKey; 3], bool), Sign>,
-    /// Sorted triple: the sign of its orientation at the instant itself.
-    at_signs: FastMap<[PointKey; 3], Sign>,
+    /// Sorted triple, and just before ([`BEFORE`]), just after
+    /// ([`AFTER`]) or at ([`AT`]) the instant: the sign of the sorted
+    /// triple's orientation.
+    signs: FastMap<([PointKey; 3], u8), Sign>,
+}
+
+/// Just before the memo's instant (a key's side).
+const BEFORE: u8 = 0;
+/// Just after the memo's instant.
+const AFTER: u8 = 1;
+/// At the memo's instant itself.
+const AT: u8 = 2;
+
+/// The side of a sign just after (`after`) or before the instant.
+fn side(after: bool) -> u8 {
+    if after {
+        AFTER
+    } else {
+        BEFORE
+    }
 }
 
 thread_local! {
@@ -108,7 +123,7 @@ pub(crate) fn peek(keys: [PointKey; 3], t: &Time, after: bool) -> Option<Sign> {
         if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
             return None;
         }
-        m.signs.get(&(k, after)).copied()
+        m.signs.get(&(k, side(after))).copied()
     })?;
     Some(if odd { s.neg() } else { s })
 }
@@ -122,7 +137,7 @@ pub(crate) fn peek_at(keys: [PointKey; 3], t: &Time) -> Option<Sign> {
         if !m.at.as_ref().is_some_and(|at| same_instant(at, t)) {
             return None;
         }
-        m.at_signs.get(&k).copied()
+        m.signs.get(&(k, AT)).copied()
     })?;
     Some(if odd { s.neg() } else { s })
 }
@@ -140,7 +155,7 @@ pub(crate) fn record(
     let (k, odd) = sorted(keys);
     let s = if odd { s.neg() } else { s };
     with_instant(frames, t, |m| {
-        m.signs.insert((k, after), s);
+        m.signs.insert((k, side(after)), s);
     });
 }
 
@@ -150,7 +165,7 @@ pub(crate) fn record_at(keys: [PointKey; 3], frames: [&Arc<Frame>; 3], t: &Time,
     let (k, odd) = sorted(keys);
     let s = if odd { s.neg() } else { s };
     with_instant(frames, t, |m| {
-        m.at_signs.insert(k, s);
+        m.signs.insert((k, AT), s);
     });
 }
 
@@ -163,7 +178,6 @@ fn with_instant(frames: [&Arc<Frame>; 3], t: &Time, f: impl FnOnce(&mut Memo)) {
             m.at = Some(t.clone());
             m.frames.clear();
             m.signs.clear();
-            m.at_signs.clear();
         }
         for fr in frames {
             m.frames
