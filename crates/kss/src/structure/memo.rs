@@ -6,7 +6,9 @@
 //! orientations "just after" (or "just before") that instant many times
 //! over; where the f64 filter cannot decide them each one is an exact
 //! evaluation with big integers. This memo keeps the exact answers of the
-//! current instant.
+//! current instant, and the signs *at* the instant that an exact failure
+//! time computed on the way (a collision response asks whether the
+//! contact's turn is zero there right after scheduling it).
 //!
 //! An entry is keyed by what the three points *are*, not by their names:
 //! each point is its body's [`Frame`] (a new one at every motion change,
