@@ -16,6 +16,22 @@ fn events(s: &Scenario, structure: StructureKind, audit: bool) -> (Events, RunSt
         .unwrap_or_else(|e| panic!("{} fails: {e}", structure.name()))
 }
 
+/// The reference's events on `s`, and each kinetic structure's run
+/// statistics, its events having been checked equal to the reference's
+/// with the audit after every event (`what` names the scene in failures).
+fn agreeing_with_brute(s: &Scenario, what: &str) -> (Events, Vec<(StructureKind, RunStats)>) {
+    let (want, _) = events(s, StructureKind::Brute, false);
+    let runs = [StructureKind::Plain, StructureKind::Hierarchical]
+        .into_iter()
+        .map(|structure| {
+            let (got, stats) = events(s, structure, true);
+            assert_eq!(got, want, "{} on {what}", structure.name());
+            (structure, stats)
+        })
+        .collect();
+    (want, runs)
+}
+
 /// How many polygons the run removed: both of every colliding pair except
 /// fixed ones, each once.
 fn removed(s: &Scenario, ev: &Events) -> u64 {
@@ -83,10 +99,8 @@ fn removals_in_a_gas_are_local() {
             changes: 4,
             seed,
         });
-        let (want, _) = events(&s, StructureKind::Brute, false);
-        for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-            let (got, stats) = events(&s, structure, true);
-            assert_eq!(got, want, "{} on gas seed {seed}", structure.name());
+        let (want, runs) = agreeing_with_brute(&s, &format!("gas seed {seed}"));
+        for (structure, stats) in runs {
             assert_eq!(
                 stats.local_removals,
                 removed(&s, &want),
@@ -155,11 +169,9 @@ fn removal_among_collinear_squares_is_local() {
         polygons.push((&SQUARE, [3.0 * i as f64 + 0.5, 10.0], [0.0, 0.0]));
     }
     let s = remove_scene(10.0, &polygons);
-    let (want, _) = events(&s, StructureKind::Brute, false);
+    let (want, runs) = agreeing_with_brute(&s, "the collinear squares");
     assert_eq!(want.len(), 1);
-    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-        let (got, stats) = events(&s, structure, true);
-        assert_eq!(got, want, "{}", structure.name());
+    for (structure, stats) in runs {
         assert_eq!(stats.local_removals, 2, "{}", structure.name());
         assert_eq!(stats.rebuilds, 0, "{}", structure.name());
     }
@@ -194,11 +206,9 @@ fn pairs_colliding_at_one_instant_leave_one_region_each() {
         polygons.push((&SQUARE, p, [0.0, 0.0]));
     }
     let s = remove_scene(5.0, &polygons);
-    let (want, _) = events(&s, StructureKind::Brute, false);
+    let (want, runs) = agreeing_with_brute(&s, "the two pairs");
     assert_eq!(want.len(), 3);
-    for structure in [StructureKind::Plain, StructureKind::Hierarchical] {
-        let (got, stats) = events(&s, structure, true);
-        assert_eq!(got, want, "{}", structure.name());
+    for (structure, stats) in runs {
         assert_eq!(stats.local_removals, 6, "{}", structure.name());
         assert_eq!(stats.work["set_removals"], 3, "{}", structure.name());
         assert_eq!(stats.rebuilds, 0, "{}", structure.name());
