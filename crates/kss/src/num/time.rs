@@ -60,6 +60,7 @@ trait Force: Send + Sync {
     fn force(&self) -> &Time;
     fn pending(&self) -> bool;
     fn known_rational(&self) -> bool;
+    fn source(&self) -> &dyn std::any::Any;
 }
 
 struct Once<S> {
@@ -103,6 +104,10 @@ impl<S: ExactTime> Force for Once<S> {
             Some(t) => matches!(t.kind, Kind::Rat(_)),
             None => self.src.known_rational(),
         }
+    }
+
+    fn source(&self) -> &dyn std::any::Any {
+        &self.src
     }
 }
 
@@ -265,6 +270,15 @@ impl Time {
                 iv,
             })),
             iv,
+        }
+    }
+
+    /// The exact computation behind a deferred time, if this is one made
+    /// with a computation of type `S` (computed yet or not).
+    pub(crate) fn deferred_source<S: ExactTime>(&self) -> Option<&S> {
+        match &self.kind {
+            Kind::Deferred(f) => f.source().downcast_ref::<S>(),
+            _ => None,
         }
     }
 

@@ -182,6 +182,17 @@ impl PointRef {
         Arc::ptr_eq(&self.frame, &other.frame)
     }
 
+    /// Which point this is, as [`Geo::point_id`] named it when the
+    /// reference was taken: its frame's [`Frame::uid`] and its body-frame
+    /// point.
+    pub fn id(&self) -> (u64, (u32, u32)) {
+        let key = match self.src {
+            PointSrc::Real(_, v) => (u32::MAX, v),
+            PointSrc::Approx(_, i, k) => (i, k),
+        };
+        (self.frame.uid(), key)
+    }
+
     /// The moving world position for the frame it was taken with.
     pub fn linear(&self) -> LinearPoint {
         match &self.src {

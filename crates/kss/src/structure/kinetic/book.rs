@@ -121,6 +121,34 @@ struct DeferredFailure {
     sign: Sign,
 }
 
+impl DeferredFailure {
+    /// What the three points were when the failure time was computed
+    /// ([`fingerprint`] then).
+    fn fingerprint(&self) -> Fingerprint {
+        self.p.each_ref().map(PointRef::id)
+    }
+}
+
+/// A fingerprint that no points have (a frame's uid is never 0).
+const NO_POINTS: Fingerprint = [(0, (0, 0)); 3];
+
+/// What a certificate's points were when its failure time `due` was
+/// computed, and whether `due` is a root of its function (see
+/// [`Scheduled::fp`]): `fp` where the book keeps it, else read from `due`'s
+/// deferred computation, which holds the points: the book keeps none only
+/// for a deferred time made for the certificate itself
+/// ([`enqueue_with`]), a root after the instant it was computed at.
+pub(super) fn schedule_fp(
+    fp: Option<&(Fingerprint, bool)>,
+    due: Option<&Time>,
+) -> Option<(Fingerprint, bool)> {
+    if let Some(&f) = fp {
+        return Some(f);
+    }
+    let src = due?.deferred_source::<DeferredFailure>()?;
+    Some((src.fingerprint(), true))
+}
+
 impl ExactTime for DeferredFailure {
     fn exact(&self) -> Time {
         cert_poly_of(
@@ -253,7 +281,7 @@ pub(super) fn due_is_failing(
     (fp, due): (Option<&(Fingerprint, bool)>, Option<&Time>),
     now: &Time,
 ) -> bool {
-    if let (Some(&(f, root)), Some(at)) = (fp, due) {
+    if let (Some((f, root)), Some(at)) = (schedule_fp(fp, due), due) {
         if Some(f) == fingerprint(world, &c.p) && at.is_known_same(now) {
             crate::structure::counters::bump(crate::structure::counters::Counter::FailingKnown);
             // (a failure root: negative just after it; the instant's memo
@@ -340,8 +368,24 @@ fn enqueue_with(
     let Some(t) = failure_time(world, c, now, e) else {
         return (None, None);
     };
+    // (a deferred time made here holds the points it was computed for: the
+    // book keeps them only for the other times. `now` itself, when it is
+    // the deferred failure time of another certificate, is no such time:
+    // the book keeps this certificate's points then, or a fingerprint
+    // that no points have where they have none, so that
+    // [`schedule_fp`] never reads the other certificate's points)
     let root = !t.is_known_same(now);
-    let fp = fingerprint(world, &c.p).map(|f| Box::new((f, root)));
+    let fp = match t.deferred_source::<DeferredFailure>() {
+        Some(_src) if root => {
+            debug_assert_eq!(Some(_src.fingerprint()), fingerprint(world, &c.p));
+            None
+        }
+        Some(_) => Some(Box::new((
+            fingerprint(world, &c.p).unwrap_or(NO_POINTS),
+            root,
+        ))),
+        None => fingerprint(world, &c.p).map(|f| Box::new((f, root))),
+    };
     (Some(queue.schedule(t, tie(world, &c.p), id)), fp)
 }
 

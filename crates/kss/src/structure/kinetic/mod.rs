@@ -210,7 +210,10 @@ struct Scheduled {
     /// are the same points, the certificate is known to be wrong just after
     /// that time, which is a root where it turns negative (the flag:
     /// `true`) or the instant it was computed at, where it is not positive
-    /// just after ([`book::failure_time`]).
+    /// just after ([`book::failure_time`]). Also `None` when that time is
+    /// deferred: its computation holds the points, and
+    /// [`book::schedule_fp`] reads them there (no allocation and no
+    /// lookup of the points for most certificates).
     /// (Boxed, as is `popped`: the map of certificates stays small.)
     fp: Option<Box<(Fingerprint, bool)>>,
     /// The failure time it was popped (or taken out of the queue) at, while

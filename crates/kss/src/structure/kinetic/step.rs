@@ -208,7 +208,7 @@ fn root_at(
     t: &Time,
 ) -> bool {
     c.kind != crate::structure::certs::CertKind::Order
-        && matches!((fp, due), (Some(&(f, true)), Some(at))
+        && matches!((super::book::schedule_fp(fp, due), due), (Some((f, true)), Some(at))
             if at.is_known_same(t) && Some(f) == super::fingerprint(world, &c.p))
 }
 
