@@ -419,6 +419,7 @@ impl Kinetic {
         // as their vertices' f64 positions prove, each pair asked once: a
         // corridor between them has only their vertices, and none rests)
         let mut vertex_apart: Vec<((BodyId, BodyId), bool)> = Vec::new();
+        let mut placed = Vec::new();
         let mut out = BTreeSet::new();
         for k in cands {
             let c = &self.kss.corrs[k.0 as usize];
@@ -429,7 +430,7 @@ impl Kinetic {
                 let key = (p.min(q), p.max(q));
                 let known = vertex_apart.iter().find(|(x, _)| *x == key).map(|e| e.1);
                 let proved = known.unwrap_or_else(|| {
-                    let v = vertices_apart(world, p, q, ti);
+                    let v = vertices_apart(world, p, q, ti, &mut placed);
                     vertex_apart.push((key, v));
                     v
                 });
@@ -507,17 +508,32 @@ impl Kinetic {
 /// ([`crate::geom::MidRad::apart`]). Asked only of two bodies seen as
 /// their real polygons (whose positions cost a few products each); `false`
 /// for any other pair, or where a position is not finite.
-fn vertices_apart(world: &Geo, p: BodyId, q: BodyId, t: Interval) -> bool {
+/// `placed` keeps each body's vertex positions for the next pair (the
+/// bodies whose motion changed are in most pairs).
+fn vertices_apart(
+    world: &Geo,
+    p: BodyId,
+    q: BodyId,
+    t: Interval,
+    placed: &mut Vec<(BodyId, Option<Vec<crate::geom::MidRad>>)>,
+) -> bool {
     use crate::geom::MidRad;
-    let places = |b: BodyId| -> Option<Vec<MidRad>> {
-        if world.shapes.approx(b).is_some() {
-            return None;
+    let mut place = |b: BodyId| -> usize {
+        if let Some(i) = placed.iter().position(|(x, _)| *x == b) {
+            return i;
         }
-        (0..world.body(b).shape.len() as u32)
-            .map(|k| world.mid_rad(Att::vertex(b, k), t))
-            .collect()
+        let m = if world.shapes.approx(b).is_some() {
+            None
+        } else {
+            (0..world.body(b).shape.len() as u32)
+                .map(|k| world.mid_rad(Att::vertex(b, k), t))
+                .collect::<Option<Vec<MidRad>>>()
+        };
+        placed.push((b, m));
+        placed.len() - 1
     };
-    let (Some(mp), Some(mq)) = (places(p), places(q)) else {
+    let (ip, iq) = (place(p), place(q));
+    let (Some(mp), Some(mq)) = (&placed[ip].1, &placed[iq].1) else {
         return false;
     };
     // (only the vertices of `p` near `q`'s box are compared one by one)
@@ -542,7 +558,7 @@ fn vertices_apart(world: &Geo, p: BodyId, q: BodyId, t: Interval) -> bool {
     // (a square around that box: every rounding above, of the box's ends,
     // its centre and its half-width, is within `ε` of the largest
     // coordinate `m`, and `4εm` covers them)
-    let [x0, x1, y0, y1] = bound(&mq);
+    let [x0, x1, y0, y1] = bound(mq);
     let m = x0.abs().max(x1.abs()).max(y0.abs()).max(y1.abs());
     let eps = f64::EPSILON;
     let box_q = MidRad {
