@@ -98,7 +98,26 @@ impl Frame {
             w = lcm(&w, d);
         }
         let scale = |r: &Rational| r.numer() * (&w / r.denom());
-        let (mut ox, mut oy, mut vx, mut vy) = (scale(&o.x), scale(&o.y), scale(&v.x), scale(&v.y));
+        Frame::over(
+            [scale(&o.x), scale(&o.y)],
+            [scale(&v.x), scale(&v.y)],
+            w,
+            body,
+        )
+    }
+
+    /// The frame of a body polygon moving from origin `o/w` with velocity
+    /// `v/w` (`w > 0`; the fractions need not be in lowest terms, which
+    /// spares the least common multiple of four denominators when the
+    /// caller has a common one: a bridge's, see [`crate::world`]).
+    pub(crate) fn over(
+        [ox, oy]: [Int; 2],
+        [vx, vy]: [Int; 2],
+        w: Int,
+        body: &BodyPolygon,
+    ) -> Frame {
+        debug_assert!(w > Int::ZERO, "a frame's denominator is positive");
+        let (mut ox, mut oy, mut vx, mut vy, mut w) = (ox, oy, vx, vy, w);
         let e = body.exp();
         let m;
         if e >= 0 {
@@ -139,6 +158,21 @@ impl Frame {
             mr: [[ox_mr, vx_mr], [oy_mr, vy_mr]],
             uid: NEXT_FRAME_UID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         }
+    }
+
+    /// Whether `self` and `other` move a body polygon alike: the same
+    /// origin, velocity and scale as fractions (their integers may differ
+    /// by a common factor; [`Frame::over`]).
+    pub fn same_motion(&self, other: &Frame) -> bool {
+        [
+            (&self.ox, &other.ox),
+            (&self.oy, &other.oy),
+            (&self.vx, &other.vx),
+            (&self.vy, &other.vy),
+            (&self.m, &other.m),
+        ]
+        .iter()
+        .all(|(a, b)| *a * &other.w == *b * &self.w)
     }
 
     /// A number that identifies this frame's values among all frames made
@@ -435,6 +469,64 @@ mod tests {
                     assert!(within(e[2], &lp.y0, &lp.w), "y0 of {i}");
                     assert!(within(e[3], &lp.y1, &lp.w), "y1 of {i}");
                 }
+            }
+        }
+    }
+
+    /// A frame made over a common denominator that is not the least one
+    /// ([`Frame::over`], a bridge's) moves the polygon as the frame of the
+    /// trajectory does: the same exact vertex positions at an instant, the
+    /// same motion ([`Frame::same_motion`]), enclosures that hold them; a
+    /// frame of another trajectory is not the same motion.
+    #[test]
+    fn frames_over_an_unreduced_denominator_move_alike() {
+        let t = Rational::new(Int::from(7), Int::from(3));
+        let at = Rational::new(Int::from(-11), Int::from(5));
+        for scale in [1.0, 3.0e-7, 1.5e9] {
+            let poly = scaled_triangle(scale);
+            for (p, v) in [
+                (pt(0.25, -1.5), pt(1.0 / 3.0, 0.2)),
+                (pt(1e6, 3.0), pt(-0.1, 0.0)),
+            ] {
+                let traj = Trajectory::through(&t, &p, v);
+                let reduced = Frame::new(&traj, &poly);
+                // origin and velocity over 6·(the least common multiple)
+                let o = traj.origin();
+                let vel = traj.velocity();
+                let dens = [o.x.denom(), o.y.denom(), vel.x.denom(), vel.y.denom()];
+                let w = dens[1..]
+                    .iter()
+                    .fold(dens[0].clone(), |w, d| crate::num::lcm(&w, d))
+                    * Int::from(6);
+                let num = |r: &Rational| r.numer() * (&w / r.denom());
+                let frame = Frame::over(
+                    [num(&o.x), num(&o.y)],
+                    [num(&vel.x), num(&vel.y)],
+                    w.clone(),
+                    &poly,
+                );
+                assert!(frame.same_motion(&reduced) && reduced.same_motion(&frame));
+                assert_ne!(frame.uid(), reduced.uid());
+                for (i, &xy) in poly.f64_vertices().iter().enumerate() {
+                    let (a, b) = (frame.vertex(&poly, i), reduced.vertex(&poly, i));
+                    let place = |l: &LinearPoint| {
+                        let q = |x0: &Int, x1: &Int| {
+                            Rational::new(x0.clone(), l.w.clone())
+                                .add(&Rational::new(x1.clone(), l.w.clone()).mul(&at))
+                        };
+                        (q(&l.x0, &l.x1), q(&l.y0, &l.y1))
+                    };
+                    assert_eq!(place(&a), place(&b), "vertex {i} at scale {scale}");
+                    let e = frame.linear_enclosure_of_vertex(xy);
+                    let within = |iv: Interval, num: &Int| {
+                        let x = Rational::new(num.clone(), a.w.clone());
+                        r(iv.lo) <= x && x <= r(iv.hi)
+                    };
+                    assert!(within(e[0], &a.x0) && within(e[1], &a.x1));
+                    assert!(within(e[2], &a.y0) && within(e[3], &a.y1));
+                }
+                let other = Frame::new(&Trajectory::through(&t, &p, pt(0.5, 0.5)), &poly);
+                assert!(!frame.same_motion(&other));
             }
         }
     }

@@ -157,7 +157,13 @@ impl Body {
     }
 
     fn set_traj(&mut self, traj: Trajectory) {
-        self.frame = Arc::new(Frame::new(&traj, &self.shape));
+        let frame = Frame::new(&traj, &self.shape);
+        self.set_traj_frame(traj, frame);
+    }
+
+    /// [`Body::set_traj`] with the trajectory's frame made already.
+    fn set_traj_frame(&mut self, traj: Trajectory, frame: Frame) {
+        self.frame = Arc::new(frame);
         self.motion_f64 = self.frame.motion_f64();
         self.traj = traj;
     }
@@ -783,8 +789,11 @@ impl World {
         let dt = Time::from_rational(tau.clone());
         // the bridge from `p` at `t` to `q` at `τ`: velocity (q − p) / (τ − t)
         // and origin (p·τ − q·t) / (τ − t), each coordinate reduced once
-        let bridge = match bridge_dyadic(t, o, &old_v, &tau, &q) {
-            Some(b) => b,
+        let (bridge, frame) = match bridge_dyadic(t, o, &old_v, &tau, &q) {
+            Some((b, [ox, oy, vx, vy], w)) => {
+                let frame = Frame::over([ox, oy], [vx, vy], w, &body.shape);
+                (b, frame)
+            }
             None => {
                 let tauf = Frac::of(&tau);
                 let span = tauf.sub(&tf);
@@ -796,10 +805,17 @@ impl World {
                 };
                 let (ox, vx) = coord(&p[0], &q.x);
                 let (oy, vy) = coord(&p[1], &q.y);
-                Trajectory::from_origin(Point { x: ox, y: oy }, Point { x: vx, y: vy })
+                let b = Trajectory::from_origin(Point { x: ox, y: oy }, Point { x: vx, y: vy });
+                let frame = Frame::new(&b, &body.shape);
+                (b, frame)
             }
         };
-        body.set_traj(bridge);
+        #[cfg(debug_assertions)]
+        {
+            let reduced = Frame::new(&bridge, &body.shape);
+            debug_assert!(frame.same_motion(&reduced), "the bridge's frame");
+        }
+        body.set_traj_frame(bridge, frame);
         let seq = self.seq;
         self.seq += 1;
         body.anchor = Some((dt.clone(), seq));
@@ -1501,15 +1517,18 @@ fn pow2_floor(x: f64) -> i32 {
 /// (`None` otherwise: a body already on a bridge): with each of them
 /// written over one power of two, `o = O/2^k` and so on, and `t = n/d`,
 /// the velocity is `(Q·d − O·d − V·n) / S` and the origin
-/// `((O·d + V·n)·T − Q·n·2^k) / (2^k·S)`, where `S = T·d − n·2^k`: integers
-/// no longer than `t`'s, one reduction per coordinate.
+/// `((O·d + V·n)·T − Q·n·2^k) / (2^k·S)`, where `S = T·d − n·2^k > 0`:
+/// integers no longer than `t`'s, one reduction per coordinate. Also the
+/// same origin and velocity unreduced over their common denominator
+/// `2^k·S` (`[ox, oy, vx, vy]` and it), for [`Frame::over`].
+#[allow(clippy::type_complexity)]
 fn bridge_dyadic(
     t: &Rational,
     o: &Point,
     v: &Point,
     tau: &Rational,
     q: &Point,
-) -> Option<Trajectory> {
+) -> Option<(Trajectory, [Int; 4], Int)> {
     use dashu_base::BitTest;
     let all = [&o.x, &o.y, &v.x, &v.y, tau, &q.x, &q.y];
     if !all.iter().all(|x| x.is_dyadic()) {
@@ -1526,18 +1545,22 @@ fn bridge_dyadic(
     let nk = n << k;
     let big_t = scaled(tau);
     let s = &big_t * d - &nk;
+    let sk = &s << k;
     let coord = |o: &Rational, v: &Rational, q: &Rational| {
         let (big_o, big_v, big_q) = (scaled(o), scaled(v), scaled(q));
         let pd = &big_o * d + &big_v * n;
-        let velocity = Rational::new(&big_q * d - &pd, s.clone());
-        let origin = Rational::new(pd * &big_t - big_q * &nk, s.clone() << k);
-        (origin, velocity)
+        let vel = &big_q * d - &pd;
+        let org = pd * &big_t - big_q * &nk;
+        let velocity = Rational::new(vel.clone(), s.clone());
+        let origin = Rational::new(org.clone(), sk.clone());
+        (origin, velocity, org, vel << k)
     };
-    let (ox, vx) = coord(&o.x, &v.x, &q.x);
-    let (oy, vy) = coord(&o.y, &v.y, &q.y);
-    Some(Trajectory::from_origin(
-        Point { x: ox, y: oy },
-        Point { x: vx, y: vy },
+    let (ox, vx, oxn, vxn) = coord(&o.x, &v.x, &q.x);
+    let (oy, vy, oyn, vyn) = coord(&o.y, &v.y, &q.y);
+    Some((
+        Trajectory::from_origin(Point { x: ox, y: oy }, Point { x: vx, y: vy }),
+        [oxn, oyn, vxn, vyn],
+        sk,
     ))
 }
 
