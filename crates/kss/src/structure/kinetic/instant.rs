@@ -37,6 +37,11 @@ use crate::structure::geo::Geo;
 /// its triple, its bodies' views then, and the failure.
 pub(super) type Classified = ([Att; 3], [[u64; 2]; 3], Failure);
 
+/// A contact certificate known to be zero at the instant
+/// ([`InstantState::zero`]): its triple and its points' bodies'
+/// approximation versions then.
+pub(super) type KnownZero = ([Att; 3], [u64; 3]);
+
 /// A rebuild that waits for the collision response at this instant.
 #[derive(Clone, Debug)]
 pub(super) struct Broken {
@@ -58,6 +63,15 @@ pub(super) struct InstantState {
     /// (the collision response changes the motions) and failures next to a
     /// contact. Rescheduled by [`Kinetic::motion_changed`].
     pub(super) waiting: Vec<[Att; 3]>,
+    /// The contact certificates of `waiting` whose turn is known to be
+    /// exactly zero at the instant (a failure root for the points it was
+    /// computed for), with the versions of their points' bodies'
+    /// approximations then ([`Geo::view_words`]). Positions are continuous
+    /// through a response, so under the new motions the turn is zero there
+    /// too, and [`Kinetic::motion_changed`] reads its sign just after the
+    /// instant from the derivative where the filter decides it, instead of
+    /// the exact polynomial. With the instant, which it holds for alone.
+    pub(super) zero: Option<(Time, Vec<KnownZero>)>,
     /// Popped failures of the current instant that wait until every possible
     /// contact of the instant has been classified.
     pub(super) later: Option<(Time, Vec<[Att; 3]>)>,

@@ -40,6 +40,10 @@ impl Kinetic {
             );
         }
         let waiting = std::mem::take(&mut self.instant.waiting);
+        let zero = match std::mem::take(&mut self.instant.zero) {
+            Some((at, ps)) if at == *now => ps,
+            _ => Vec::new(),
+        };
         // (in the order of `Att`, sorted as the points' words, which order
         // them alike and compare faster; equal triples are one certificate)
         let room = bodies
@@ -87,6 +91,9 @@ impl Kinetic {
                 self.idle_until_bridge_end(id);
                 *turning = cert.kind != CertKind::Order;
                 continue;
+            }
+            if cert.kind != CertKind::Order {
+                zero_turn_after(world, &cert, &zero, now, e);
             }
             self.reschedule_id(world, id, now, Some(e));
         }
@@ -500,6 +507,53 @@ impl Kinetic {
         }
         out
     }
+}
+
+/// For a turn certificate `c` that [`InstantState::zero`] (`zero`) knows
+/// to be exactly zero at `now` (its points the same: their bodies'
+/// approximations unchanged): its sign just after `now` under the new
+/// motions is the sign of its function's derivative there, which `e` (the
+/// certificate's [`cert_enclosure`] for those motions) decides unless
+/// the derivative may be zero. Where it does, the instant's memo of exact
+/// turns learns the turn's sign at `now` (zero) and just after it, which
+/// [`super::book::failure_time`] and [`Kinetic::straight_now`] read
+/// instead of evaluating the turn exactly.
+///
+/// [`InstantState::zero`]: super::instant::InstantState::zero
+fn zero_turn_after(
+    world: &Geo,
+    c: &crate::structure::certs::Cert,
+    zero: &[super::instant::KnownZero],
+    now: &Time,
+    e: Option<[Interval; 3]>,
+) {
+    let Some([_, c1, c2]) = e else {
+        return;
+    };
+    let known = zero
+        .iter()
+        .any(|(p, versions)| *p == c.p && *versions == c.p.map(|a| world.obj_view_words(a.obj)[0]));
+    if !known {
+        return;
+    }
+    let t = now.interval();
+    let after = match (c1 + (c2 + c2) * t).sign() {
+        Some(s @ (Sign::Positive | Sign::Negative)) => s,
+        _ => return,
+    };
+    // (the certificate's function is the turn, or its negation)
+    let turn = |s: Sign| if c.sign == Sign::Negative { s.neg() } else { s };
+    #[cfg(debug_assertions)]
+    {
+        let [_, at, exact] = super::book::cert_poly(world, c).signs_at_and_around(now);
+        debug_assert_eq!(
+            (at, exact),
+            (Sign::Zero, after),
+            "a contact certificate known zero at the instant: {c:?}"
+        );
+    }
+    world.memo_record(c.p, now, true, turn(after));
+    world.memo_record_at(c.p, now, Sign::Zero);
 }
 
 /// Whether the f64 positions of the vertices of bodies `p` and `q` at a

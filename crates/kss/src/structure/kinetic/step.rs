@@ -297,7 +297,7 @@ impl Kinetic {
         if tie == 0 {
             let cert = s.cert;
             let failure = classify(world, &cert, &t);
-            let (pairs, apart) = match failure {
+            let (pairs, apart, zero) = match failure {
                 Failure::Contact { a, b, third } => {
                     hint_contact(world, &p, &t);
                     let zero = root_at(world, &cert, s.fp.as_deref(), Some(&t), &t);
@@ -305,13 +305,24 @@ impl Kinetic {
                     let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
                     let pairs =
                         contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
-                    (pairs, apart)
+                    (pairs, apart, zero)
                 }
-                Failure::Between { .. } => {
-                    (nearby_contact(world, &p, &t).into_iter().collect(), None)
-                }
+                Failure::Between { .. } => (
+                    nearby_contact(world, &p, &t).into_iter().collect(),
+                    None,
+                    false,
+                ),
             };
             if let Some(step) = self.touch(world, p, &t, pairs, apart, collides) {
+                // (a contact set aside whose turn is known zero now: see
+                // `InstantState::zero`)
+                if zero && matches!(step, Step::Contact(..)) {
+                    let versions = p.map(|a| world.obj_view_words(a.obj)[0]);
+                    match &mut self.instant.zero {
+                        Some((at, ps)) if *at == t => ps.push((p, versions)),
+                        _ => self.instant.zero = Some((t.clone(), vec![(p, versions)])),
+                    }
+                }
                 return Ok(step);
             }
             // not a contact, or a touch that is not a collision: a

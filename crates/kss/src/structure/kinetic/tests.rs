@@ -367,3 +367,51 @@ fn failure_times_of_two_points_on_one_body_are_known_rational() {
         "{claimed} of {deferred}"
     );
 }
+
+/// A collision response places its contact certificates, whose turns are
+/// zero at the instant, from their derivatives under the new motions
+/// (`InstantState::zero`, checked against the exact sign in debug
+/// builds), not from exact polynomials: on swarms of octagons in `bounce`
+/// mode, with the audit after every event, the exact failure times are a
+/// small fraction of the collisions (about one per collision otherwise),
+/// and the collisions are the reference's.
+#[test]
+fn collision_responses_place_their_contacts_without_exact_failure_times() {
+    use crate::gen::{swarm, SwarmParams};
+    use crate::{run, RunOptions, StructureKind};
+    for seed in [1, 2] {
+        let s = swarm(&SwarmParams {
+            k: 24,
+            n: 8,
+            seed,
+            ..SwarmParams::default()
+        });
+        let collisions = |structure, audit| {
+            let mut out = Vec::new();
+            let opts = RunOptions {
+                structure,
+                audit,
+                ..Default::default()
+            };
+            let stats = run(&s, &opts, &mut |e| {
+                out.push((e.time.clone(), e.a.clone(), e.b.clone()))
+            })
+            .expect("the run");
+            (out, stats)
+        };
+        let (want, _) = collisions(StructureKind::Brute, false);
+        let (got, stats) = collisions(StructureKind::Plain, true);
+        assert_eq!(got, want, "seed {seed}");
+        let exact = stats.work["failure_times_exact"];
+        assert!(
+            stats.collisions >= 100,
+            "seed {seed}: {} collisions",
+            stats.collisions
+        );
+        assert!(
+            2 * exact <= stats.collisions,
+            "seed {seed}: {exact} exact failure times for {} collisions",
+            stats.collisions
+        );
+    }
+}
