@@ -658,6 +658,13 @@ impl Kinetic {
                     trace!("triangle {} collapses first", _tri.0);
                     if let Some(s) = self.certs.get_mut(&q) {
                         if let Some(key) = s.key.take() {
+                            // (the instant's time it keeps instead of its
+                            // own does not hold its points: the book keeps
+                            // them, see `book::schedule_fp`)
+                            if s.fp.is_none() {
+                                let own = self.queue.get(key).map(|(tq, _)| tq);
+                                s.fp = super::book::schedule_fp(None, own).map(Box::new);
+                            }
                             self.queue.cancel(key);
                             s.popped = Some(Box::new(t.clone()));
                         }
