@@ -345,6 +345,73 @@ pub(super) fn holds_until_bridge_end(
     (c0 + span * (c1 + span * c2)).sign() == Some(Sign::Positive)
 }
 
+/// Whether turn certificate `c` is positive from `now` to `end` as its
+/// points' places at `now` and how far they can move by `end` prove it,
+/// without its coefficients' enclosure (the cheap first test of
+/// [`holds_until_bridge_end`]; `false` where it does not prove it, and
+/// for an order certificate). With `d1 = q − p` and `d2 = r − p` at `now`
+/// (midpoints and radii, [`Geo::mid_rad`]: `|d1x|` at most `M1x` and so
+/// on) and each coordinate of a difference moving by at most `Δ1x` and so
+/// on until `end` (the sum of its two points' speeds in that coordinate,
+/// from their frames' velocity enclosures, times `end − now`; every body
+/// moves linearly until the earliest bridge end among its certificate's
+/// bodies), the turn `d1x·d2y − d1y·d2x` changes by at most `Δ1x·M2y +
+/// M1x·Δ2y + Δ1x·Δ2y + Δ1y·M2x + M1y·Δ2x + Δ1y·Δ2x`; it holds if its
+/// value at `now`, less the error of the f64 evaluation, exceeds that.
+/// All of it positive terms, each rounding at most `ε`: a factor `1 +
+/// 64ε` and `TINY` cover them.
+pub(super) fn holds_by_motion_bound(world: &Geo, c: &Cert, now: &Time, end: &Time) -> bool {
+    use crate::geom::{EPS, TINY};
+    if c.kind == crate::structure::certs::CertKind::Order {
+        return false;
+    }
+    let t = now.interval();
+    let [Some(u), Some(v), Some(w)] = c.p.map(|a| world.mid_rad(a, t)) else {
+        return false;
+    };
+    let speed = |a: Att| -> [f64; 2] {
+        match a.obj {
+            Obj::Body(b) => world
+                .body(b)
+                .frame
+                .velocity_enclosure()
+                .map(|e| e.lo.abs().max(e.hi.abs())),
+            Obj::Omega => [f64::INFINITY; 2],
+        }
+    };
+    let [su, sv, sw] = c.p.map(speed);
+    let span = (end.interval().hi - t.lo) * (1.0 + 4.0 * EPS);
+    let (d1x, d1y, d2x, d2y) = (v.x - u.x, v.y - u.y, w.x - u.x, w.y - u.y);
+    let (r1, r2) = (u.r + v.r, u.r + w.r);
+    let (r1x, r1y) = (r1 + EPS * d1x.abs(), r1 + EPS * d1y.abs());
+    let (r2x, r2y) = (r2 + EPS * d2x.abs(), r2 + EPS * d2y.abs());
+    let (a, b) = (d1x * d2y, d1y * d2x);
+    let value = a - b;
+    let err = d1x.abs() * r2y
+        + r1x * d2y.abs()
+        + r1x * r2y
+        + d1y.abs() * r2x
+        + r1y * d2x.abs()
+        + r1y * r2x
+        + 3.0 * EPS * (a.abs() + b.abs());
+    let (m1x, m1y, m2x, m2y) = (
+        d1x.abs() + r1x,
+        d1y.abs() + r1y,
+        d2x.abs() + r2x,
+        d2y.abs() + r2y,
+    );
+    let (e1x, e1y) = ((su[0] + sv[0]) * span, (su[1] + sv[1]) * span);
+    let (e2x, e2y) = ((su[0] + sw[0]) * span, (su[1] + sw[1]) * span);
+    let moved = e1x * m2y + m1x * e2y + e1x * e2y + e1y * m2x + m1y * e2x + e1y * e2x;
+    let signed = if c.sign == Sign::Negative {
+        -value
+    } else {
+        value
+    };
+    let need = (err + moved) * (1.0 + 64.0 * EPS) + TINY;
+    need.is_finite() && signed.is_finite() && signed > need
+}
+
 /// Queue certificate `c` (stored under `id`) at its failure time after
 /// `now`, if it has one: its queue key and [`Scheduled::fp`]. On the queue
 /// alone (a certificate of the book may be borrowed meanwhile).

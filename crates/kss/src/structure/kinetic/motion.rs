@@ -14,7 +14,9 @@ use crate::structure::StructureError;
 use crate::structure::{Att, CorrId, Obj};
 use crate::world::BodyId;
 
-use super::book::{cert_enclosure, holds_until_bridge_end, is_failing};
+use super::book::{
+    bridge_end, cert_enclosure, holds_by_motion_bound, holds_until_bridge_end, is_failing,
+};
 use super::instant::Broken;
 use super::tally::Rebuild;
 use super::{CertId, FastMap, Kinetic};
@@ -85,6 +87,29 @@ impl Kinetic {
                 continue;
             };
             kinds.push(Some(cert.kind));
+            // (a turn certificate that its points' places now and their
+            // speeds prove positive until a bridge of one of its bodies
+            // ends: idle, no enclosure needed; nothing below reads one
+            // for it, its turn is not zero now)
+            if !waiting.contains(p) {
+                if let Some(end) = bridge_end(world, &cert.p) {
+                    if holds_by_motion_bound(world, &cert, now, end) {
+                        #[cfg(debug_assertions)]
+                        {
+                            let f = super::book::cert_poly(world, &cert);
+                            debug_assert!(
+                                f.sign_at(now) == Sign::Positive
+                                    && f.clone().failure_after_positive(now).is_none_or(|x| x > *end),
+                                "a certificate proved to hold until the bridge's end fails before: {cert:?}"
+                            );
+                        }
+                        encl.push(None);
+                        self.idle_until_bridge_end(id);
+                        *turning = true;
+                        continue;
+                    }
+                }
+            }
             let e = cert_enclosure(world, &cert);
             encl.push(e);
             if !waiting.contains(p) && holds_until_bridge_end(world, &cert, now, e) {
