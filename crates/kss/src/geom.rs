@@ -770,7 +770,7 @@ pub fn dot_mid_rad(u: MidRad, v: MidRad, w: MidRad) -> Option<Sign> {
 /// within the radii (the radii and the subtraction's rounding): `(d1, u1,
 /// d2, u2)`.
 #[inline]
-fn mid_rad_differences(
+pub(crate) fn mid_rad_differences(
     u: MidRad,
     v: MidRad,
     w: MidRad,
@@ -788,15 +788,26 @@ fn mid_rad_differences(
 
 /// The sign of `a·b − c·d` (`minus`) or `a·b + c·d`, each factor given as
 /// `(value, bound on its error)`, where the f64 evaluation with its error
-/// bound decides it: `|a|·eb + ea·|b| + ea·eb` and the same for `c·d` for
-/// the factors, `3ε(|a·b| + |c·d|)` for the evaluation, the bound computed
-/// with a factor `1 + 32ε` and `TINY` for underflow.
+/// bound ([`two_products`]) decides it, the bound computed with a factor
+/// `1 + 32ε` and `TINY` for underflow.
 #[inline]
-fn two_products_sign(
+fn two_products_sign(ab: [(f64, f64); 2], cd: [(f64, f64); 2], minus: bool) -> Option<Sign> {
+    let (value, err) = two_products(ab, cd, minus);
+    let bound = err * (1.0 + 32.0 * EPS) + TINY;
+    sign_beyond(value, bound)
+}
+
+/// `a·b − c·d` (`minus`) or `a·b + c·d` in f64, each factor given as
+/// `(value, bound on its error)`, and a bound on the error of that value:
+/// `|a|·eb + ea·|b| + ea·eb` and the same for `c·d` for the factors,
+/// `3ε(|a·b| + |c·d|)` for the evaluation (the bound's own rounding, a
+/// few operations on positive terms, is the caller's to cover).
+#[inline]
+pub(crate) fn two_products(
     [(a, ea), (b, eb)]: [(f64, f64); 2],
     [(c, ec), (d, ed)]: [(f64, f64); 2],
     minus: bool,
-) -> Option<Sign> {
+) -> (f64, f64) {
     let (p, q) = (a * b, c * d);
     let value = if minus { p - q } else { p + q };
     let err = a.abs() * eb
@@ -806,8 +817,7 @@ fn two_products_sign(
         + ec * d.abs()
         + ec * ed
         + 3.0 * EPS * (p.abs() + q.abs());
-    let bound = err * (1.0 + 32.0 * EPS) + TINY;
-    sign_beyond(value, bound)
+    (value, err)
 }
 
 impl MidRad {

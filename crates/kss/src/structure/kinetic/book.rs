@@ -322,22 +322,13 @@ pub(super) fn bridge_end<'a>(world: &'a Geo, p: &[Att; 3]) -> Option<&'a Time> {
         .min()
 }
 
-/// Whether certificate `c` holds from `now` to the earliest end
-/// of a bridge among its bodies ([`crate::world::Body::bridge_end`]),
-/// as the f64 filter proves it: its function is positive on the
-/// whole span. At that bridge's end the body's motion changes and
-/// every certificate on it is scheduled again, so until then it needs
-/// no failure time.
+/// Whether a certificate holds from `now` to `end`, the earliest end of a
+/// bridge among its bodies ([`bridge_end`]), as the f64 filter proves it:
+/// its function is positive on the whole span. At that
+/// bridge's end the body's motion changes and every certificate on it is
+/// scheduled again, so until then it needs no failure time.
 /// `e` is the certificate's [`cert_enclosure`].
-pub(super) fn holds_until_bridge_end(
-    world: &Geo,
-    c: &Cert,
-    now: &Time,
-    e: Option<[Interval; 3]>,
-) -> bool {
-    let Some(end) = bridge_end(world, &c.p) else {
-        return false;
-    };
+pub(super) fn holds_until_bridge_end(now: &Time, end: &Time, e: Option<[Interval; 3]>) -> bool {
     let Some([c0, c1, c2]) = e else {
         return false;
     };
@@ -381,19 +372,12 @@ pub(super) fn holds_by_motion_bound(world: &Geo, c: &Cert, now: &Time, end: &Tim
     };
     let [su, sv, sw] = c.p.map(speed);
     let span = (end.interval().hi - t.lo) * (1.0 + 4.0 * EPS);
-    let (d1x, d1y, d2x, d2y) = (v.x - u.x, v.y - u.y, w.x - u.x, w.y - u.y);
-    let (r1, r2) = (u.r + v.r, u.r + w.r);
-    let (r1x, r1y) = (r1 + EPS * d1x.abs(), r1 + EPS * d1y.abs());
-    let (r2x, r2y) = (r2 + EPS * d2x.abs(), r2 + EPS * d2y.abs());
-    let (a, b) = (d1x * d2y, d1y * d2x);
-    let value = a - b;
-    let err = d1x.abs() * r2y
-        + r1x * d2y.abs()
-        + r1x * r2y
-        + d1y.abs() * r2x
-        + r1y * d2x.abs()
-        + r1y * r2x
-        + 3.0 * EPS * (a.abs() + b.abs());
+    // (the turn at `now` and its error, as the midpoint–radius filter
+    // of the orientation computes them)
+    let ([d1x, d1y], [r1x, r1y], [d2x, d2y], [r2x, r2y]) =
+        crate::geom::mid_rad_differences(u, v, w);
+    let (value, err) =
+        crate::geom::two_products([(d1x, r1x), (d2y, r2y)], [(d1y, r1y), (d2x, r2x)], true);
     let (m1x, m1y, m2x, m2y) = (
         d1x.abs() + r1x,
         d1y.abs() + r1y,

@@ -87,32 +87,34 @@ impl Kinetic {
                 continue;
             };
             kinds.push(Some(cert.kind));
+            // (the end of the bridge the certificate must hold until to be
+            // idle: none for a contact of this instant, or off a bridge)
+            let end = if waiting.contains(p) {
+                None
+            } else {
+                bridge_end(world, &cert.p)
+            };
             // (a turn certificate that its points' places now and their
-            // speeds prove positive until a bridge of one of its bodies
-            // ends: idle, no enclosure needed; nothing below reads one
-            // for it, its turn is not zero now)
-            if !waiting.contains(p) {
-                if let Some(end) = bridge_end(world, &cert.p) {
-                    if holds_by_motion_bound(world, &cert, now, end) {
-                        #[cfg(debug_assertions)]
-                        {
-                            let f = super::book::cert_poly(world, &cert);
-                            debug_assert!(
-                                f.sign_at(now) == Sign::Positive
-                                    && f.clone().failure_after_positive(now).is_none_or(|x| x > *end),
-                                "a certificate proved to hold until the bridge's end fails before: {cert:?}"
-                            );
-                        }
-                        encl.push(None);
-                        self.idle_until_bridge_end(id);
-                        *turning = true;
-                        continue;
-                    }
+            // speeds prove positive until then: idle, no enclosure needed;
+            // nothing below reads one for it, its turn is not zero now)
+            if let Some(_end) = end.filter(|end| holds_by_motion_bound(world, &cert, now, end)) {
+                #[cfg(debug_assertions)]
+                {
+                    let f = super::book::cert_poly(world, &cert);
+                    debug_assert!(
+                        f.sign_at(now) == Sign::Positive
+                            && f.clone().failure_after_positive(now).is_none_or(|x| x > *_end),
+                        "a certificate proved to hold until the bridge's end fails before: {cert:?}"
+                    );
                 }
+                encl.push(None);
+                self.idle_until_bridge_end(id);
+                *turning = true;
+                continue;
             }
             let e = cert_enclosure(world, &cert);
             encl.push(e);
-            if !waiting.contains(p) && holds_until_bridge_end(world, &cert, now, e) {
+            if end.is_some_and(|end| holds_until_bridge_end(now, end, e)) {
                 self.idle_until_bridge_end(id);
                 *turning = cert.kind != CertKind::Order;
                 continue;
