@@ -11,48 +11,138 @@
 
 use crate::geom::{BodyPolygon, Point};
 use crate::num::{lcm, Int, Interval, Poly, Rational};
+use std::sync::OnceLock;
 
 /// One linear piece of a body's path: `position(t) = origin + velocity·t`.
-#[derive(Clone, Debug, PartialEq, Eq)]
+///
+/// The origin and velocity are in lowest terms when read. A bridge's
+/// ([`crate::world`]) is made as integers over one common denominator and
+/// reduced (two gcds per coordinate, of numbers as long as the collision
+/// time's) only when first read: the structure reads the body's frame
+/// instead, and most bridges end without anything reading them.
+#[derive(Clone, Debug)]
 pub struct Trajectory {
-    origin: Point,
-    velocity: Point,
+    /// `[origin, velocity]` in lowest terms: given, or reduced from `over`
+    /// on first read.
+    reduced: OnceLock<[Point; 2]>,
+    /// `[ox, oy, vx, vy]` over `w > 0`, not reduced, where the trajectory
+    /// was made so.
+    over: Option<Box<([Int; 4], Int)>>,
 }
+
+impl PartialEq for Trajectory {
+    fn eq(&self, other: &Trajectory) -> bool {
+        self.origin() == other.origin() && self.velocity() == other.velocity()
+    }
+}
+
+impl Eq for Trajectory {}
 
 impl Trajectory {
     /// The piece at `origin` at time 0 that moves with `velocity`.
     pub fn from_origin(origin: Point, velocity: Point) -> Trajectory {
-        Trajectory { origin, velocity }
+        Trajectory {
+            reduced: OnceLock::from([origin, velocity]),
+            over: None,
+        }
+    }
+
+    /// The piece at `(ox/w, oy/w)` at time 0 that moves with `(vx/w,
+    /// vy/w)`, `w > 0`, the fractions in any terms: reduced when first read.
+    pub(crate) fn over(n: [Int; 4], w: Int) -> Trajectory {
+        debug_assert!(w > Int::ZERO, "a trajectory's denominator is positive");
+        Trajectory {
+            reduced: OnceLock::new(),
+            over: Some(Box::new((n, w))),
+        }
     }
 
     /// The piece that is at `position` at time `time` and moves with `velocity`.
     pub fn through(time: &Rational, position: &Point, velocity: Point) -> Trajectory {
         let t = time.neg();
-        Trajectory {
-            origin: Point {
-                x: position.x.mul_add(&velocity.x, &t),
-                y: position.y.mul_add(&velocity.y, &t),
-            },
-            velocity,
-        }
+        let origin = Point {
+            x: position.x.mul_add(&velocity.x, &t),
+            y: position.y.mul_add(&velocity.y, &t),
+        };
+        Trajectory::from_origin(origin, velocity)
+    }
+
+    /// `[origin, velocity]`, reduced on first read.
+    fn parts(&self) -> &[Point; 2] {
+        self.reduced.get_or_init(|| {
+            let (n, w) = self
+                .over
+                .as_deref()
+                .expect("a trajectory without its reduced parts has its integers");
+            let r = |x: &Int| Rational::new(x.clone(), w.clone());
+            [
+                Point {
+                    x: r(&n[0]),
+                    y: r(&n[1]),
+                },
+                Point {
+                    x: r(&n[2]),
+                    y: r(&n[3]),
+                },
+            ]
+        })
+    }
+
+    /// Whether the origin and velocity are in lowest terms already.
+    #[cfg(test)]
+    pub(crate) fn is_reduced(&self) -> bool {
+        self.reduced.get().is_some()
     }
 
     /// Position at time `t`.
     pub fn position_at(&self, t: &Rational) -> Point {
+        let [o, v] = self.parts();
         Point {
-            x: self.origin.x.mul_add(&self.velocity.x, t),
-            y: self.origin.y.mul_add(&self.velocity.y, t),
+            x: o.x.mul_add(&v.x, t),
+            y: o.y.mul_add(&v.y, t),
         }
     }
 
     /// The velocity.
     pub fn velocity(&self) -> &Point {
-        &self.velocity
+        &self.parts()[1]
     }
 
     /// The position extrapolated to time 0.
     pub fn origin(&self) -> &Point {
-        &self.origin
+        &self.parts()[0]
+    }
+
+    /// `max(floor, b)` where `b` is the largest bit length of a numerator
+    /// or denominator of the origin and velocity in lowest terms. A
+    /// trajectory not reduced yet is reduced for it only where its
+    /// integers could exceed `floor`: each fraction over the common
+    /// denominator with their common powers of two taken out is no shorter
+    /// than in lowest terms.
+    pub fn number_bits_above(&self, floor: u64) -> u64 {
+        use dashu_base::BitTest;
+        if self.reduced.get().is_none() {
+            if let Some((n, w)) = self.over.as_deref() {
+                let wz = w.trailing_zeros().unwrap_or(0);
+                let most = n
+                    .iter()
+                    .map(|x| {
+                        let z = x.trailing_zeros().map_or(wz, |z| z.min(wz));
+                        x.bit_len().max(w.bit_len()) - z
+                    })
+                    .max()
+                    .unwrap_or(0) as u64;
+                if most <= floor {
+                    return floor;
+                }
+            }
+        }
+        let [o, v] = self.parts();
+        [&o.x, &o.y, &v.x, &v.y]
+            .iter()
+            .flat_map(|r| [r.numer().bit_len(), r.denom().bit_len()])
+            .max()
+            .map_or(floor, |b| floor.max(b as u64))
     }
 
     /// The continuous continuation that moves with `velocity` from time `at` on.

@@ -558,7 +558,7 @@ impl Simulation {
             }
         };
         self.ids.insert(polygon.id.clone(), b);
-        self.max_bits = self.max_bits.max(self.world.number_bits(b));
+        self.max_bits = self.world.number_bits_above(b, self.max_bits);
         let now = self.now.clone();
         self.guard(|s| {
             if !s.reported.is_empty() {
@@ -583,7 +583,7 @@ impl Simulation {
         let now = self.now_rational()?;
         let changed = self.world.bounce(&now, &pairs);
         for &b in &changed {
-            self.max_bits = self.max_bits.max(self.world.number_bits(b));
+            self.max_bits = self.world.number_bits_above(b, self.max_bits);
         }
         self.answer(&[], &pairs);
         self.update(&changed)
@@ -666,7 +666,7 @@ impl Simulation {
     /// Count the velocity changes of `bodies` at now.
     fn changed_at(&mut self, bodies: &[BodyId]) {
         for &b in bodies {
-            self.max_bits = self.max_bits.max(self.world.number_bits(b));
+            self.max_bits = self.world.number_bits_above(b, self.max_bits);
         }
         if !bodies.is_empty() && self.last_change.as_ref() != Some(&self.now) {
             self.last_change = Some(self.now.clone());

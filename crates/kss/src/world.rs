@@ -156,6 +156,21 @@ impl Body {
         self.traj.position_at(t).add(&self.shape.vertex(i))
     }
 
+    /// Whether this body and `other` move with one velocity on their
+    /// current pieces, exactly (their frames' velocity enclosures tell most
+    /// apart without reading a bridge's velocity, which would reduce it).
+    pub fn same_velocity(&self, other: &Body) -> bool {
+        let apart = |a: crate::num::Interval, b: crate::num::Interval| a.hi < b.lo || b.hi < a.lo;
+        let [ax, ay] = self.frame.velocity_enclosure();
+        let [bx, by] = other.frame.velocity_enclosure();
+        if apart(ax, bx) || apart(ay, by) {
+            // (on copies, which leave a bridge unreduced)
+            debug_assert_ne!(self.traj.clone().velocity(), other.traj.clone().velocity());
+            return false;
+        }
+        self.traj.velocity() == other.traj.velocity()
+    }
+
     fn set_traj(&mut self, traj: Trajectory) {
         let frame = Frame::new(&traj, &self.shape);
         self.set_traj_frame(traj, frame);
@@ -647,18 +662,14 @@ impl World {
     /// The largest bit length of a numerator or denominator of body `id`'s
     /// current path (origin and velocity).
     pub fn number_bits(&self, id: BodyId) -> u64 {
-        use dashu_base::BitTest;
-        let t = &self.body(id).traj;
-        [
-            &t.origin().x,
-            &t.origin().y,
-            &t.velocity().x,
-            &t.velocity().y,
-        ]
-        .iter()
-        .flat_map(|r| [r.numer().bit_len(), r.denom().bit_len()])
-        .max()
-        .unwrap_or(0) as u64
+        self.number_bits_above(id, 0)
+    }
+
+    /// `max(floor, number_bits(id))`, without reducing a bridge's numbers
+    /// where their common-denominator form shows that they cannot exceed
+    /// `floor` ([`Trajectory::number_bits_above`]).
+    pub fn number_bits_above(&self, id: BodyId, floor: u64) -> u64 {
+        self.body(id).traj.number_bits_above(floor)
     }
 
     /// Take the scenario's flight-plan changes out of the queue (the bridge
@@ -755,8 +766,9 @@ impl World {
         #[cfg(debug_assertions)]
         let before = self.bodies[id.index()].traj.position_at(t);
         self.set_velocity_frame(id, t, v, away);
+        // (on a copy: the body's bridge stays unreduced until read)
         #[cfg(debug_assertions)]
-        debug_assert_eq!(self.bodies[id.index()].traj.position_at(t), before);
+        debug_assert_eq!(self.bodies[id.index()].traj.clone().position_at(t), before);
         let new = self.bodies[id.index()].frame.uid();
         self.last_contact.moved(id, old, new, t);
     }
@@ -812,7 +824,7 @@ impl World {
         };
         #[cfg(debug_assertions)]
         {
-            let reduced = Frame::new(&bridge, &body.shape);
+            let reduced = Frame::new(&bridge.clone(), &body.shape);
             debug_assert!(frame.same_motion(&reduced), "the bridge's frame");
         }
         body.set_traj_frame(bridge, frame);
@@ -1518,9 +1530,10 @@ fn pow2_floor(x: f64) -> i32 {
 /// written over one power of two, `o = O/2^k` and so on, and `t = n/d`,
 /// the velocity is `(Q·d − O·d − V·n) / S` and the origin
 /// `((O·d + V·n)·T − Q·n·2^k) / (2^k·S)`, where `S = T·d − n·2^k > 0`:
-/// integers no longer than `t`'s, one reduction per coordinate. Also the
-/// same origin and velocity unreduced over their common denominator
-/// `2^k·S` (`[ox, oy, vx, vy]` and it), for [`Frame::over`].
+/// integers no longer than `t`'s. Returned over their common denominator
+/// `2^k·S`, unreduced: as a trajectory that reduces them when first read
+/// ([`Trajectory::over`]), and as the integers `[ox, oy, vx, vy]` and
+/// `2^k·S` for [`Frame::over`].
 #[allow(clippy::type_complexity)]
 fn bridge_dyadic(
     t: &Rational,
@@ -1551,17 +1564,12 @@ fn bridge_dyadic(
         let pd = &big_o * d + &big_v * n;
         let vel = &big_q * d - &pd;
         let org = pd * &big_t - big_q * &nk;
-        let velocity = Rational::new(vel.clone(), s.clone());
-        let origin = Rational::new(org.clone(), sk.clone());
-        (origin, velocity, org, vel << k)
+        (org, vel << k)
     };
-    let (ox, vx, oxn, vxn) = coord(&o.x, &v.x, &q.x);
-    let (oy, vy, oyn, vyn) = coord(&o.y, &v.y, &q.y);
-    Some((
-        Trajectory::from_origin(Point { x: ox, y: oy }, Point { x: vx, y: vy }),
-        [oxn, oyn, vxn, vyn],
-        sk,
-    ))
+    let (oxn, vxn) = coord(&o.x, &v.x, &q.x);
+    let (oyn, vyn) = coord(&o.y, &v.y, &q.y);
+    let n = [oxn, oyn, vxn, vyn];
+    Some((Trajectory::over(n.clone(), sk.clone()), n, sk))
 }
 
 /// The bridge end: a dyadic time `τ > t` and a dyadic point `Q` near
@@ -1673,17 +1681,15 @@ impl Frac {
 
     /// `floor(self · 2^e)`, and whether that is its exact value.
     fn floor_scaled(&self, e: i64) -> (Int, bool) {
-        let (n, d) = if e >= 0 {
-            (self.num.clone() << (e as usize), self.den.clone())
+        use dashu_base::DivRemEuclid;
+        // (one division: the quotient rounded down and a remainder in
+        // `[0, d)`, `d` being positive)
+        let (q, rem) = if e >= 0 {
+            (&self.num << (e as usize)).div_rem_euclid(&self.den)
         } else {
-            (self.num.clone(), self.den.clone() << ((-e) as usize))
+            (&self.num).div_rem_euclid(&self.den << ((-e) as usize))
         };
-        let (q, rem) = (&n / &d, &n % &d);
-        if rem < Int::ZERO {
-            (q - Int::ONE, false)
-        } else {
-            (q, rem.is_zero())
-        }
+        (q, rem.is_zero())
     }
 }
 
@@ -1817,6 +1823,56 @@ mod tests {
             assert_eq!(parts(&after), parts(&fresh), "v = {v}");
             assert_eq!(parts(&after), parts(&before), "v = {v}");
         }
+    }
+
+    /// A response at an instant that is not dyadic puts both bodies on a
+    /// bridge whose origin and velocity are reduced only when read: the
+    /// velocity comparison of two bodies that move apart and the bit count
+    /// over a floor they cannot exceed leave them unreduced, and read they
+    /// are the bridge's position at the instant and its end, in lowest
+    /// terms, with the bit count of the reduced numbers.
+    #[test]
+    fn a_bridge_reduces_its_numbers_only_when_read() {
+        let (a, b) = (BodyId(0), BodyId(1));
+        let t = Rational::new(Int::from(4), Int::from(3));
+        let s = Scenario {
+            until: 4.0,
+            on_collision: CollisionMode::Bounce,
+            polygons: vec![square("a", 1.0, -2.0, 0.75), square("b", 1.0, 1.0, -0.75)],
+            ..Default::default()
+        };
+        let mut w = bodies(&s);
+        let at_t = |w: &World, id: BodyId| w.body(id).traj.position_at(&t);
+        let before = [at_t(&w, a), at_t(&w, b)];
+        assert_eq!(w.bounce(&t, &[(a, b)]), vec![a, b]);
+        for id in [a, b] {
+            assert!(!w.body(id).traj.is_reduced(), "{id:?}");
+        }
+        assert!(!w.body(a).same_velocity(w.body(b)));
+        assert_eq!(w.number_bits_above(a, 10_000), 10_000);
+        for id in [a, b] {
+            assert!(!w.body(id).traj.is_reduced(), "{id:?}");
+        }
+        let bits = w.number_bits(a);
+        assert!(w.body(a).traj.is_reduced());
+        let traj = &w.body(a).traj;
+        let (o, v) = (traj.origin().clone(), traj.velocity().clone());
+        let fresh = Trajectory::from_origin(o.clone(), v.clone());
+        assert_eq!(*traj, fresh);
+        assert_eq!(fresh.number_bits_above(0), bits);
+        for r in [&o.x, &o.y, &v.x, &v.y] {
+            assert_eq!(*r, Rational::new(r.numer().clone(), r.denom().clone()));
+        }
+        assert_eq!([at_t(&w, a), at_t(&w, b)], before);
+        // (the bridge ends where its end's change starts the body)
+        let (end, change) = w
+            .changes
+            .iter()
+            .find(|(_, c)| c.body == a)
+            .expect("a bridge");
+        let tau = end.0.as_rational().expect("a rational end").clone();
+        let q = change.anchor.clone().expect("an anchor");
+        assert_eq!(w.body(a).traj.position_at(&tau), q);
     }
 
     /// Two equal squares head-on swap their velocities, at the unit scale

@@ -152,7 +152,7 @@ pub fn coincide_forever(world: &Geo, x: Att, y: Att) -> bool {
         return false;
     };
     // (two bodies that move apart never rest on each other: the cheap test)
-    if bx == by || world.body(bx).traj.velocity() != world.body(by).traj.velocity() {
+    if bx == by || !world.body(bx).same_velocity(world.body(by)) {
         return false;
     }
     if let (Some(ex), Some(ey)) = (world.enclose_linear(x), world.enclose_linear(y)) {

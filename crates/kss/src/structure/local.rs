@@ -721,9 +721,7 @@ impl Kss {
         // (two bodies that move alike may leave a face that is a path
         // traversed twice: an edge resting on an identical edge)
         let alike = match (c.a, c.b) {
-            (Obj::Body(a), Obj::Body(b)) => {
-                world.body(a).traj.velocity() == world.body(b).traj.velocity()
-            }
+            (Obj::Body(a), Obj::Body(b)) => world.body(a).same_velocity(world.body(b)),
             _ => false,
         };
         for (fi, face) in self.corners_with(world, k, mid).into_iter().enumerate() {
@@ -1352,10 +1350,7 @@ impl Kss {
         let (Obj::Body(ba), Obj::Body(bb)) = (c.a, c.b) else {
             return Vec::new();
         };
-        if len_a == 0
-            || len_b == 0
-            || world.body(ba).traj.velocity() != world.body(bb).traj.velocity()
-        {
+        if len_a == 0 || len_b == 0 || !world.body(ba).same_velocity(world.body(bb)) {
             return Vec::new();
         }
         let (a_s, _, _, b_t) = self.ends(k);
