@@ -426,21 +426,25 @@ impl Kinetic {
         let meet = |x: Att, y: Att| {
             !apart(x.obj, y.obj) && crate::structure::faces::coincide_at(world, x, y, now)
         };
-        let mut owners: Vec<CorrId> = ids
-            .iter()
-            .filter_map(|&id| self.certs.at(id?))
-            .flat_map(|s| s.owners.iter())
-            .filter_map(|o| match *o {
-                Owner::Corr(k) => Some(k),
-                Owner::Tri(_) => None,
-            })
-            .collect();
+        // (sized for two owners a certificate, the corridors at their ends
+        // below, and each corridor's two bodies: no vector grows)
+        let mut owners: Vec<CorrId> = Vec::with_capacity(2 * ids.len());
+        owners.extend(
+            ids.iter()
+                .filter_map(|&id| self.certs.at(id?))
+                .flat_map(|s| s.owners.iter())
+                .filter_map(|o| match *o {
+                    Owner::Corr(k) => Some(k),
+                    Owner::Tri(_) => None,
+                }),
+        );
         owners.sort_unstable();
         owners.dedup();
         // (and the corridors at their ends: a turn through two resting
         // points has no certificate that would name them, and an empty
         // corridor has none at all)
-        let mut cands = owners.clone();
+        let mut cands = Vec::with_capacity(7 * owners.len());
+        cands.extend_from_slice(&owners);
         for &k in &owners {
             let c = &self.kss.corrs[k.0 as usize];
             for tri in [c.s.0, c.t.0] {
@@ -452,8 +456,8 @@ impl Kinetic {
         // (two bodies none of whose vertices can be at one place at `now`,
         // as their vertices' f64 positions prove, each pair asked once: a
         // corridor between them has only their vertices, and none rests)
-        let mut vertex_apart: Vec<((BodyId, BodyId), bool)> = Vec::new();
-        let mut placed = Vec::new();
+        let mut vertex_apart: Vec<((BodyId, BodyId), bool)> = Vec::with_capacity(cands.len());
+        let mut placed = Vec::with_capacity(2 * cands.len());
         let mut out = BTreeSet::new();
         for k in cands {
             let c = &self.kss.corrs[k.0 as usize];
@@ -606,9 +610,17 @@ fn vertices_apart(
         let m = if world.shapes.approx(b).is_some() {
             None
         } else {
-            (0..world.body(b).shape.len() as u32)
-                .map(|k| world.mid_rad(Att::vertex(b, k), t))
-                .collect::<Option<Vec<MidRad>>>()
+            // (sized at once: collecting into an `Option` would grow it)
+            let n = world.body(b).shape.len() as u32;
+            let mut v = Vec::with_capacity(n as usize);
+            (0..n)
+                .all(|k| {
+                    world
+                        .mid_rad(Att::vertex(b, k), t)
+                        .map(|m| v.push(m))
+                        .is_some()
+                })
+                .then_some(v)
         };
         placed.push((b, m));
         placed.len() - 1
