@@ -285,13 +285,14 @@ impl Placed {
         let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
         let pts = [v, up, down, j.prev, j.next];
         let tiv = t.interval();
-        let [m_v, m_up, m_down] = [v, up, down].map(|a| world.mid_rad(a, tiv));
+        let tm = crate::geom::TimeMidRad::of(tiv);
+        let [m_v, m_up, m_down] = [v, up, down].map(|a| world.mid_rad_tm(a, tiv, tm));
         // (a chain edge's end is one of the vertex's neighbours, placed
         // already)
         let again = |a: Att| match a {
             _ if a == up => m_up,
             _ if a == down => m_down,
-            _ => world.mid_rad(a, tiv),
+            _ => world.mid_rad_tm(a, tiv, tm),
         };
         Placed {
             pts,
