@@ -59,7 +59,7 @@ pub fn classify(world: &Geo, c: &Cert, t: &Time) -> Failure {
     // (the three points placed once for the midpoint–radius filter, the
     // interval filter only where it does not decide)
     let tiv = t.interval();
-    let mids = world.mid_rads(c.p, tiv);
+    let mids = c.p.map(|a| world.mid_rad(a, tiv));
     let filtered: [Option<crate::num::Sign>; 3] = std::array::from_fn(|m| {
         let (u, v, w) = (m, (m + 1) % 3, (m + 2) % 3);
         if let (Some(mu), Some(mv), Some(mw)) = (mids[u], mids[v], mids[w]) {
@@ -211,7 +211,7 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
         let (nz, nx) = (near(z), near(x));
         [nz[0], nz[1], nz[2], nx[0], nx[1], nx[2]]
     };
-    let mids = world.mid_rads(pts, tiv);
+    let mids = pts.map(|a| world.mid_rad(a, tiv));
     let mid = |a: Att| pts.iter().position(|&q| q == a).and_then(|i| mids[i]);
     // exact signs at `t` from the moving points' integer polynomials (no
     // rational positions: no gcd); `None` where they are needed at an

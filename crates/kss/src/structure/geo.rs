@@ -1462,30 +1462,6 @@ impl<'a> Geo<'a> {
     /// compared exactly; debug builds check every hit against a fresh
     /// computation.
     pub fn mid_rad(&self, a: Att, t: Interval) -> Option<MidRad> {
-        self.mid_rad_tm(a, t, crate::geom::TimeMidRad::of(t))
-    }
-
-    /// [`Geo::mid_rad`] of several points at one time (the time's
-    /// midpoint–radius form computed once).
-    pub(crate) fn mid_rads<const N: usize>(
-        &self,
-        atts: [Att; N],
-        t: Interval,
-    ) -> [Option<MidRad>; N] {
-        let tm = crate::geom::TimeMidRad::of(t);
-        atts.map(|a| self.mid_rad_tm(a, t, tm))
-    }
-
-    /// [`Geo::mid_rad`] with `tm` the midpoint–radius form of `t`
-    /// ([`crate::geom::TimeMidRad::of`]), for callers that place several
-    /// points at one time.
-    #[inline]
-    pub(crate) fn mid_rad_tm(
-        &self,
-        a: Att,
-        t: Interval,
-        tm: crate::geom::TimeMidRad,
-    ) -> Option<MidRad> {
         let Obj::Body(b) = a.obj else {
             return None;
         };
@@ -1494,7 +1470,9 @@ impl<'a> Geo<'a> {
             // cheaper than the cache
             let body = self.world.body(b);
             let v = body.shape.f64_vertices()[a.v as usize];
-            return body.frame.mid_rad_of_vertex(v, tm);
+            return body
+                .frame
+                .mid_rad_of_vertex(v, crate::geom::TimeMidRad::of(t));
         }
         self.mid_rad_cached(a, t, || self.enclose_linear(a))
     }
@@ -1636,7 +1614,9 @@ impl<'a> Geo<'a> {
         super::counters::bump(super::counters::Counter::TurnsFiltered);
         // the midpoint–radius filter first (cheapest, on the cached
         // points), then the intervals
-        if let [Some(a), Some(b), Some(c)] = self.mid_rads([u, v, w], t) {
+        if let (Some(a), Some(b), Some(c)) =
+            (self.mid_rad(u, t), self.mid_rad(v, t), self.mid_rad(w, t))
+        {
             if let Some(s) = crate::geom::orient_mid_rad(a, b, c) {
                 #[cfg(debug_assertions)]
                 {
@@ -1677,7 +1657,9 @@ impl<'a> Geo<'a> {
     pub fn dot_filtered(&self, u: Att, v: Att, w: Att, t: Interval) -> Option<Sign> {
         // the midpoint–radius filter first, on the cached points, as for
         // the turns
-        if let [Some(a), Some(b), Some(c)] = self.mid_rads([u, v, w], t) {
+        if let (Some(a), Some(b), Some(c)) =
+            (self.mid_rad(u, t), self.mid_rad(v, t), self.mid_rad(w, t))
+        {
             if let Some(s) = crate::geom::dot_mid_rad(b, a, c) {
                 return Some(s);
             }

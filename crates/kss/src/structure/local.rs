@@ -285,14 +285,13 @@ impl Placed {
         let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
         let pts = [v, up, down, j.prev, j.next];
         let tiv = t.interval();
-        let tm = crate::geom::TimeMidRad::of(tiv);
-        let [m_v, m_up, m_down] = [v, up, down].map(|a| world.mid_rad_tm(a, tiv, tm));
+        let [m_v, m_up, m_down] = [v, up, down].map(|a| world.mid_rad(a, tiv));
         // (a chain edge's end is one of the vertex's neighbours, placed
         // already)
         let again = |a: Att| match a {
             _ if a == up => m_up,
             _ if a == down => m_down,
-            _ => world.mid_rad_tm(a, tiv, tm),
+            _ => world.mid_rad(a, tiv),
         };
         Placed {
             pts,

@@ -357,7 +357,7 @@ pub(super) fn holds_by_motion_bound(world: &Geo, c: &Cert, now: &Time, end: &Tim
         return false;
     }
     let t = now.interval();
-    let [Some(u), Some(v), Some(w)] = world.mid_rads(c.p, t) else {
+    let [Some(u), Some(v), Some(w)] = c.p.map(|a| world.mid_rad(a, t)) else {
         return false;
     };
     let speed = |a: Att| -> [f64; 2] {

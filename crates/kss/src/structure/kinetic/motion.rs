@@ -613,11 +613,10 @@ fn vertices_apart(
             // (sized at once: collecting into an `Option` would grow it)
             let n = world.body(b).shape.len() as u32;
             let mut v = Vec::with_capacity(n as usize);
-            let tm = crate::geom::TimeMidRad::of(t);
             (0..n)
                 .all(|k| {
                     world
-                        .mid_rad_tm(Att::vertex(b, k), t, tm)
+                        .mid_rad(Att::vertex(b, k), t)
                         .map(|m| v.push(m))
                         .is_some()
                 })
