@@ -793,11 +793,23 @@ impl World {
         // the position at `t`, origin + velocity · t, unreduced
         let tf = Frac::of(t);
         let (o, old_v) = (body.traj.origin(), body.traj.velocity().clone());
-        let p = [
-            Frac::of(&o.x).add(&Frac::of(&old_v.x).mul(&tf)),
-            Frac::of(&o.y).add(&Frac::of(&old_v.y).mul(&tf)),
-        ];
-        let (tau, q) = bridge_anchor(t, &p, &v, &old_v, away);
+        let position = || {
+            [
+                Frac::of(&o.x).add(&Frac::of(&old_v.x).mul(&tf)),
+                Frac::of(&o.y).add(&Frac::of(&old_v.y).mul(&tf)),
+            ]
+        };
+        let (tau, q) = match bridge_anchor_dyadic(t, o, &old_v, &v, away) {
+            Some(anchor) => {
+                debug_assert_eq!(
+                    anchor,
+                    bridge_anchor(t, &position(), &v, &old_v, away),
+                    "the bridge's end in integers"
+                );
+                anchor
+            }
+            None => bridge_anchor(t, &position(), &v, &old_v, away),
+        };
         let dt = Time::from_rational(tau.clone());
         // the bridge from `p` at `t` to `q` at `τ`: velocity (q − p) / (τ − t)
         // and origin (p·τ − q·t) / (τ − t), each coordinate reduced once
@@ -807,6 +819,7 @@ impl World {
                 (b, frame)
             }
             None => {
+                let p = position();
                 let tauf = Frac::of(&tau);
                 let span = tauf.sub(&tf);
                 let coord = |p: &Frac, q: &Rational| {
@@ -1616,6 +1629,76 @@ fn bridge_anchor(
         y: round(target(&p[1], &v.y), dir(1)),
     };
     (tau, q)
+}
+
+/// [`bridge_anchor`] where the trajectory's origin `o` and velocity `old_v`
+/// and the new velocity `v` are dyadic (a body off a bridge; `None`
+/// otherwise), the same `τ` and `Q` in integers: with `t = n/d` and the
+/// dyadic values over one power of two `2^K` (`o = O/2^K` and so on, `τ =
+/// T/2^K`), the position at `t` is `P/(2^K·d)` with `P = O·d + V·n`, `τ − t
+/// = S/(2^K·d)` with `S = T·d − n·2^K`, and the target `p + v·(τ − t)` is
+/// `(P·2^K + W·S)/(2^{2K}·d)`: a few products and one division per
+/// coordinate, where [`Frac`]'s general sums multiply denominators.
+fn bridge_anchor_dyadic(
+    t: &Rational,
+    o: &Point,
+    old_v: &Point,
+    v: &Point,
+    away: Option<&[Rational; 2]>,
+) -> Option<(Rational, Point)> {
+    use dashu_base::{BitTest, DivRemEuclid};
+    let dyadic = [&o.x, &o.y, &old_v.x, &old_v.y, &v.x, &v.y];
+    if !dyadic.iter().all(|x| x.is_dyadic()) {
+        return None;
+    }
+    // τ and the rounding grid as `bridge_anchor` takes them
+    let tf = t.to_f64().abs().max(f64::MIN_POSITIVE);
+    let g = i64::from(pow2_floor(tf) - 36);
+    let (k, _) = Frac::of(t).floor_scaled(-g);
+    let k2 = k + Int::from(2);
+    let tau = Rational::from_dyadic(k2.clone(), g);
+    let speed = v
+        .to_f64()
+        .iter()
+        .chain(old_v.to_f64().iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+        .clamp(1e-300, f64::MAX);
+    let r = i64::from(pow2_floor(speed) - 30) + g;
+    // the common exponent: the dyadic values' and τ's
+    let exp = |x: &Rational| (x.denom().bit_len() - 1) as i64;
+    let big_k = dyadic
+        .iter()
+        .map(|x| exp(x))
+        .max()
+        .expect("six values")
+        .max(-g);
+    let scaled = |x: &Rational| x.numer() << ((big_k - exp(x)) as usize);
+    let (n, d) = (t.numer(), t.denom());
+    let nk = n << (big_k as usize);
+    let big_t = k2 << ((g + big_k) as usize);
+    let s = &big_t * d - &nk;
+    let dir = |i: usize| away.map_or(Sign::Zero, |a| a[i].sign());
+    let coord = |o: &Rational, ov: &Rational, w: &Rational, i: usize| -> Rational {
+        let p = scaled(o) * d + scaled(ov) * n;
+        let x = (p << (big_k as usize)) + scaled(w) * &s;
+        // floor(x / (2^{2K}·d) / 2^r), and whether it is exact
+        let e = -r - 2 * big_k;
+        let (fl, rem) = if e >= 0 {
+            (x << (e as usize)).div_rem_euclid(d)
+        } else {
+            x.div_rem_euclid(d << ((-e) as usize))
+        };
+        let m = match dir(i) {
+            Sign::Positive if !rem.is_zero() => fl + Int::ONE,
+            _ => fl,
+        };
+        Rational::from_dyadic(m, r)
+    };
+    let q = Point {
+        x: coord(&o.x, &old_v.x, &v.x, 0),
+        y: coord(&o.y, &old_v.y, &v.y, 1),
+    };
+    Some((tau, q))
 }
 
 /// An exact fraction `num / den` (`den > 0`) kept unreduced: the bridge's
