@@ -21,13 +21,27 @@ use std::sync::OnceLock;
 /// time's) only when first read: the structure reads the body's frame
 /// instead, and most bridges end without anything reading them.
 #[derive(Clone, Debug)]
-pub struct Trajectory {
-    /// `[origin, velocity]` in lowest terms: given, or reduced from `over`
-    /// on first read.
+pub struct Trajectory(Repr);
+
+/// A [`Trajectory`]'s numbers: in lowest terms (most trajectories; the
+/// size of the two points, so that no body is larger for the other case),
+/// or a bridge's common-denominator integers, boxed with their reduction
+/// once read (only a body on a bridge pays for the box).
+#[derive(Clone, Debug)]
+enum Repr {
+    /// `[origin, velocity]`.
+    Reduced([Point; 2]),
+    /// A bridge's.
+    Over(Box<Over>),
+}
+
+/// `[ox, oy, vx, vy]` over `w > 0`, not reduced, and `[origin, velocity]`
+/// in lowest terms once read.
+#[derive(Clone, Debug)]
+struct Over {
+    n: [Int; 4],
+    w: Int,
     reduced: OnceLock<[Point; 2]>,
-    /// `[ox, oy, vx, vy]` over `w > 0`, not reduced, where the trajectory
-    /// was made so.
-    over: Option<Box<([Int; 4], Int)>>,
 }
 
 impl PartialEq for Trajectory {
@@ -41,20 +55,18 @@ impl Eq for Trajectory {}
 impl Trajectory {
     /// The piece at `origin` at time 0 that moves with `velocity`.
     pub fn from_origin(origin: Point, velocity: Point) -> Trajectory {
-        Trajectory {
-            reduced: OnceLock::from([origin, velocity]),
-            over: None,
-        }
+        Trajectory(Repr::Reduced([origin, velocity]))
     }
 
     /// The piece at `(ox/w, oy/w)` at time 0 that moves with `(vx/w,
     /// vy/w)`, `w > 0`, the fractions in any terms: reduced when first read.
     pub(crate) fn over(n: [Int; 4], w: Int) -> Trajectory {
         debug_assert!(w > Int::ZERO, "a trajectory's denominator is positive");
-        Trajectory {
+        Trajectory(Repr::Over(Box::new(Over {
+            n,
+            w,
             reduced: OnceLock::new(),
-            over: Some(Box::new((n, w))),
-        }
+        })))
     }
 
     /// The piece that is at `position` at time `time` and moves with `velocity`.
@@ -69,29 +81,32 @@ impl Trajectory {
 
     /// `[origin, velocity]`, reduced on first read.
     fn parts(&self) -> &[Point; 2] {
-        self.reduced.get_or_init(|| {
-            let (n, w) = self
-                .over
-                .as_deref()
-                .expect("a trajectory without its reduced parts has its integers");
-            let r = |x: &Int| Rational::new(x.clone(), w.clone());
-            [
-                Point {
-                    x: r(&n[0]),
-                    y: r(&n[1]),
-                },
-                Point {
-                    x: r(&n[2]),
-                    y: r(&n[3]),
-                },
-            ]
-        })
+        match &self.0 {
+            Repr::Reduced(p) => p,
+            Repr::Over(over) => over.reduced.get_or_init(|| {
+                let r = |x: &Int| Rational::new(x.clone(), over.w.clone());
+                let n = &over.n;
+                [
+                    Point {
+                        x: r(&n[0]),
+                        y: r(&n[1]),
+                    },
+                    Point {
+                        x: r(&n[2]),
+                        y: r(&n[3]),
+                    },
+                ]
+            }),
+        }
     }
 
     /// Whether the origin and velocity are in lowest terms already.
     #[cfg(test)]
     pub(crate) fn is_reduced(&self) -> bool {
-        self.reduced.get().is_some()
+        match &self.0 {
+            Repr::Reduced(_) => true,
+            Repr::Over(over) => over.reduced.get().is_some(),
+        }
     }
 
     /// Position at time `t`.
@@ -121,8 +136,9 @@ impl Trajectory {
     /// than in lowest terms.
     pub fn number_bits_above(&self, floor: u64) -> u64 {
         use dashu_base::BitTest;
-        if self.reduced.get().is_none() {
-            if let Some((n, w)) = self.over.as_deref() {
+        if let Repr::Over(over) = &self.0 {
+            if over.reduced.get().is_none() {
+                let (n, w) = (&over.n, &over.w);
                 let wz = w.trailing_zeros().unwrap_or(0);
                 let most = n
                     .iter()
@@ -561,6 +577,16 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A trajectory is no larger than its origin and velocity (every body
+    /// holds one; a bridge's integers are boxed).
+    #[test]
+    fn a_trajectory_is_the_size_of_its_origin_and_velocity() {
+        assert_eq!(
+            std::mem::size_of::<Trajectory>(),
+            std::mem::size_of::<[Point; 2]>()
+        );
     }
 
     /// A frame made over a common denominator that is not the least one
