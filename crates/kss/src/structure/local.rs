@@ -72,6 +72,29 @@ impl Default for PlacedRing {
     }
 }
 
+/// The points one validity check has placed at its instant, by point: a
+/// corridor's junctions share most of theirs (a corner is the next
+/// junction's neighbour). Full, it places without remembering.
+#[derive(Default)]
+struct PointMemo(ArrayVec<(Att, Option<crate::geom::MidRad>), 16>);
+
+impl PointMemo {
+    /// [`Geo::mid_rad`] of `a` at `t`, the same `t` at every call.
+    fn place(
+        &mut self,
+        world: &Geo,
+        a: Att,
+        t: crate::num::Interval,
+    ) -> Option<crate::geom::MidRad> {
+        if let Some(&(_, m)) = self.0.iter().find(|(x, _)| *x == a) {
+            return m;
+        }
+        let m = world.mid_rad(a, t);
+        let _ = self.0.try_push((a, m));
+        m
+    }
+}
+
 /// A piece of chain in face order: from `start` clockwise over `len` edges
 /// to `end`.
 #[derive(Clone, Copy, Debug)]
@@ -281,21 +304,21 @@ struct Placed {
 
 impl Placed {
     fn of(world: &Geo, j: &Junction, t: &Time) -> Placed {
+        Placed::of_with(world, j, t, &mut PointMemo::default())
+    }
+
+    /// [`Placed::of`] with the points already placed at `t` by the same
+    /// check in `memo` (a corridor's junctions share most of their
+    /// points).
+    fn of_with(world: &Geo, j: &Junction, t: &Time, memo: &mut PointMemo) -> Placed {
         let v = j.v;
         let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
         let pts = [v, up, down, j.prev, j.next];
         let tiv = t.interval();
-        let [m_v, m_up, m_down] = [v, up, down].map(|a| world.mid_rad(a, tiv));
-        // (a chain edge's end is one of the vertex's neighbours, placed
-        // already)
-        let again = |a: Att| match a {
-            _ if a == up => m_up,
-            _ if a == down => m_down,
-            _ => world.mid_rad(a, tiv),
-        };
+        let mut place = |a: Att| memo.place(world, a, tiv);
         Placed {
             pts,
-            mids: [m_v, m_up, m_down, again(j.prev), again(j.next)],
+            mids: pts.map(&mut place),
         }
     }
 
@@ -724,6 +747,8 @@ impl Kss {
             (Obj::Body(a), Obj::Body(b)) => world.body(a).same_velocity(world.body(b)),
             _ => false,
         };
+        // (the points placed at `t` so far, shared by the junctions)
+        let mut memo = PointMemo::default();
         for (fi, face) in self.corners_with(world, k, mid).into_iter().enumerate() {
             if alike {
                 let f = shapes[fi];
@@ -788,7 +813,7 @@ impl Kss {
                 // (with `clear`, the sign is the turn on `side` of `t`:
                 // the junction's points are placed once for the filter of
                 // that turn and for its clearance)
-                let placed = clear.then(|| Placed::of(world, j, t));
+                let placed = clear.then(|| Placed::of_with(world, j, t, &mut memo));
                 let s = match placed.as_ref() {
                     Some(placed) => {
                         let s = placed.turn_on(world, t, side);
