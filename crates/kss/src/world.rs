@@ -812,7 +812,9 @@ impl World {
         };
         let dt = Time::from_rational(tau.clone());
         // the bridge from `p` at `t` to `q` at `τ`: velocity (q − p) / (τ − t)
-        // and origin (p·τ − q·t) / (τ − t), each coordinate reduced once
+        // and origin (p·τ − q·t) / (τ − t); over their common denominator,
+        // reduced when read (`bridge_dyadic`), or each coordinate reduced
+        // once (a body already on a bridge)
         let (bridge, frame) = match bridge_dyadic(t, o, &old_v, &tau, &q) {
             Some((b, [ox, oy, vx, vy], w)) => {
                 let frame = Frame::over([ox, oy], [vx, vy], w, &body.shape);
