@@ -62,23 +62,20 @@ pub const MAX_CERTS: usize = 8;
 /// The junctions of one face: two per chain piece at most.
 type FaceJunctions = ArrayVec<Junction, 4>;
 
-/// The last eight points a walk placed ([`Kss::walk`]), with the next
-/// entry to replace (`ω` marks an unused entry: no walk places it).
-struct PlacedRing([(Att, Option<crate::geom::MidRad>); 8], usize);
+/// The last `N` points placed at one instant, with the next entry to
+/// replace (`ω` marks an unused entry: nothing places it): a walk's
+/// ([`Kss::walk`], whose steps share their points) and a validity check's
+/// (a corridor's junctions share most of theirs: a corner is the next
+/// junction's neighbour).
+struct PointMemo<const N: usize>([(Att, Option<crate::geom::MidRad>); N], usize);
 
-impl Default for PlacedRing {
-    fn default() -> PlacedRing {
-        PlacedRing([(Att::OMEGA, None); 8], 0)
+impl<const N: usize> Default for PointMemo<N> {
+    fn default() -> PointMemo<N> {
+        PointMemo([(Att::OMEGA, None); N], 0)
     }
 }
 
-/// The points one validity check has placed at its instant, by point: a
-/// corridor's junctions share most of theirs (a corner is the next
-/// junction's neighbour). Full, it places without remembering.
-#[derive(Default)]
-struct PointMemo(ArrayVec<(Att, Option<crate::geom::MidRad>), 16>);
-
-impl PointMemo {
+impl<const N: usize> PointMemo<N> {
     /// [`Geo::mid_rad`] of `a` at `t`, the same `t` at every call.
     fn place(
         &mut self,
@@ -90,7 +87,8 @@ impl PointMemo {
             return m;
         }
         let m = world.mid_rad(a, t);
-        let _ = self.0.try_push((a, m));
+        self.0[self.1 % N] = (a, m);
+        self.1 = self.1.wrapping_add(1);
         m
     }
 }
@@ -304,13 +302,18 @@ struct Placed {
 
 impl Placed {
     fn of(world: &Geo, j: &Junction, t: &Time) -> Placed {
-        Placed::of_with(world, j, t, &mut PointMemo::default())
+        Placed::of_with(world, j, t, &mut PointMemo::<5>::default())
     }
 
     /// [`Placed::of`] with the points already placed at `t` by the same
     /// check in `memo` (a corridor's junctions share most of their
     /// points).
-    fn of_with(world: &Geo, j: &Junction, t: &Time, memo: &mut PointMemo) -> Placed {
+    fn of_with<const N: usize>(
+        world: &Geo,
+        j: &Junction,
+        t: &Time,
+        memo: &mut PointMemo<N>,
+    ) -> Placed {
         let v = j.v;
         let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
         let pts = [v, up, down, j.prev, j.next];
@@ -748,7 +751,7 @@ impl Kss {
             _ => false,
         };
         // (the points placed at `t` so far, shared by the junctions)
-        let mut memo = PointMemo::default();
+        let mut memo = PointMemo::<16>::default();
         for (fi, face) in self.corners_with(world, k, mid).into_iter().enumerate() {
             if alike {
                 let f = shapes[fi];
@@ -1485,18 +1488,8 @@ impl Kss {
         // one end to a neighbour, and the four turns of a step share their
         // points)
         let tiv = t.interval();
-        let placed: std::cell::RefCell<PlacedRing> = Default::default();
-        let place = |a: Att| {
-            let mut ring = placed.borrow_mut();
-            if let Some(&(_, m)) = ring.0.iter().find(|(x, _)| *x == a) {
-                return m;
-            }
-            let m = world.mid_rad(a, tiv);
-            let at = ring.1 % ring.0.len();
-            ring.0[at] = (a, m);
-            ring.1 = ring.1.wrapping_add(1);
-            m
-        };
+        let placed: std::cell::RefCell<PointMemo<8>> = Default::default();
+        let place = |a: Att| placed.borrow_mut().place(world, a, tiv);
         // (`Err(true)`: the three points are placed and distinct, and the
         // filter leaves their turn undecided)
         let filtered = |u: Att, v: Att, w: Att| -> Result<Sign, bool> {
