@@ -282,7 +282,13 @@ impl Kss {
                 continue;
             }
             if let Some(mid) = self.corrs[ki].mid {
-                if self.bridge_over_flush_edges(world, k, mid, (t, super::local::Side::After)) {
+                if self.bridge_over_flush_edges(
+                    world,
+                    k,
+                    mid,
+                    (t, super::local::Side::After),
+                    &mut super::local::PointMemo::<4>::default(),
+                ) {
                     return Err(StructureError::Invariant(format!(
                         "corridor {ki}: the middle bridge runs along flush edges of both bodies"
                     )));

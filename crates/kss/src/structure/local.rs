@@ -67,7 +67,7 @@ type FaceJunctions = ArrayVec<Junction, 4>;
 /// ([`Kss::walk`], whose steps share their points) and a validity check's
 /// (a corridor's junctions share most of theirs: a corner is the next
 /// junction's neighbour).
-struct PointMemo<const N: usize>([(Att, Option<crate::geom::MidRad>); N], usize);
+pub(crate) struct PointMemo<const N: usize>([(Att, Option<crate::geom::MidRad>); N], usize);
 
 impl<const N: usize> Default for PointMemo<N> {
     fn default() -> PointMemo<N> {
@@ -149,6 +149,31 @@ pub fn turn_on(world: &Geo, u: Att, v: Att, w: Att, t: &Time, side: Side) -> Sig
         return s;
     }
     turn_on_exact(world, [u, v, w], t, side)
+}
+
+/// [`turn_on`] with the points placed through `memo` (the points of one
+/// check at one instant `t`): the midpoint–radius filter on the memo's
+/// places, then the interval filter and the exact sign as [`turn_on`].
+fn turn_on_memo<const N: usize>(
+    world: &Geo,
+    memo: &mut PointMemo<N>,
+    [u, v, w]: [Att; 3],
+    t: &Time,
+    side: Side,
+) -> Sign {
+    if u == v || v == w || u == w {
+        return Sign::Zero;
+    }
+    let tiv = t.interval();
+    let mut place = |a: Att| memo.place(world, a, tiv);
+    if let (Some(a), Some(b), Some(c)) = (place(u), place(v), place(w)) {
+        super::counters::bump(super::counters::Counter::TurnsFiltered);
+        if let Some(s) = crate::geom::orient_mid_rad(a, b, c) {
+            return s;
+        }
+        return turn_on_past_mid_rad(world, u, v, w, t, side);
+    }
+    turn_on(world, u, v, w, t, side)
 }
 
 /// [`turn_on`] for three distinct points whose midpoint–radius filter at
@@ -438,6 +463,109 @@ fn sort_dedup(certs: &mut Certs) {
     certs.truncate(kept);
 }
 
+/// The junctions of `faces` (a corridor's, [`Kss::faces_with`]), face by
+/// face (`None` for a face with fewer than three vertices).
+fn junctions_of(world: &Geo, faces: &ArrayVec<Face, 2>) -> ArrayVec<Option<FaceJunctions>, 2> {
+    faces
+        .iter()
+        .map(|&f| {
+            if f.p[0].len == 0 && f.p[1].len == 0 {
+                return None;
+            }
+            let last = |p: Piece| p.end;
+            let mut out = FaceJunctions::new();
+            for x in 0..2 {
+                let p = f.p[x];
+                let (prev_piece, next_piece) = (f.p[1 - x], f.p[1 - x]);
+                let (e_in, e_out) = (f.e[1 - x], f.e[x]);
+                let before = last(prev_piece);
+                let after = next_piece.start;
+                if p.len == 0 {
+                    out.push(Junction {
+                        prev: before,
+                        v: p.start,
+                        next: after,
+                        in_edge: e_in,
+                        out_edge: e_out,
+                    });
+                } else {
+                    let l = last(p);
+                    out.push(Junction {
+                        prev: before,
+                        v: p.start,
+                        next: step_cw(world, p.start, 1),
+                        in_edge: e_in,
+                        out_edge: EdgeRef::Chain,
+                    });
+                    out.push(Junction {
+                        prev: step_ccw(world, l),
+                        v: l,
+                        next: after,
+                        in_edge: EdgeRef::Chain,
+                        out_edge: e_out,
+                    });
+                }
+            }
+            Some(out)
+        })
+        .collect()
+}
+
+/// [`junctions_of`] as corners ([`Kss::corners_with`]).
+fn corners_of(world: &Geo, faces: &ArrayVec<Face, 2>) -> ArrayVec<Option<ArrayVec<Corner, 4>>, 2> {
+    junctions_of(world, faces)
+        .into_iter()
+        .map(|face| {
+            face.map(|js| {
+                let n = js.len();
+                // the junction leaving each bridge of length zero
+                let merged: ArrayVec<bool, 4> = (0..n)
+                    .map(|x| {
+                        let y = (x + 1) % n;
+                        js[x].out_edge != EdgeRef::Chain
+                            && js[y].in_edge == js[x].out_edge
+                            && coincide_forever(world, js[x].v, js[y].v)
+                    })
+                    .collect();
+                if !merged.contains(&true) {
+                    return js.into_iter().map(|j| (j, None)).collect();
+                }
+                // (the face's other junctions name each corner by the
+                // end kept, as the face's cycle of places does)
+                let named = |a: Att| {
+                    (0..n)
+                        .find(|&x| merged[x] && js[(x + 1) % n].v == a)
+                        .map_or(a, |x| js[x].v)
+                };
+                (0..n)
+                    .filter(|&y| !merged[(y + n - 1) % n])
+                    .map(|x| {
+                        let j = js[x];
+                        if merged[x] {
+                            let j2 = js[(x + 1) % n];
+                            let corner = Junction {
+                                prev: named(j.prev),
+                                v: j.v,
+                                next: named(j2.next),
+                                in_edge: j.in_edge,
+                                out_edge: j2.out_edge,
+                            };
+                            (corner, Some(j2.v))
+                        } else {
+                            let j = Junction {
+                                prev: named(j.prev),
+                                next: named(j.next),
+                                ..j
+                            };
+                            (j, None)
+                        }
+                    })
+                    .collect()
+            })
+        })
+        .collect()
+}
+
 impl Kss {
     /// The faces of corridor `k` between two bodies as pieces (none for an
     /// empty corridor or an ω-corridor), using middle bridge `mid`.
@@ -483,49 +611,7 @@ impl Kss {
         k: CorrId,
         mid: Option<(u32, u32)>,
     ) -> ArrayVec<Option<FaceJunctions>, 2> {
-        self.faces_with(world, k, mid)
-            .into_iter()
-            .map(|f| {
-                if f.p[0].len == 0 && f.p[1].len == 0 {
-                    return None;
-                }
-                let last = |p: Piece| p.end;
-                let mut out = FaceJunctions::new();
-                for x in 0..2 {
-                    let p = f.p[x];
-                    let (prev_piece, next_piece) = (f.p[1 - x], f.p[1 - x]);
-                    let (e_in, e_out) = (f.e[1 - x], f.e[x]);
-                    let before = last(prev_piece);
-                    let after = next_piece.start;
-                    if p.len == 0 {
-                        out.push(Junction {
-                            prev: before,
-                            v: p.start,
-                            next: after,
-                            in_edge: e_in,
-                            out_edge: e_out,
-                        });
-                    } else {
-                        let l = last(p);
-                        out.push(Junction {
-                            prev: before,
-                            v: p.start,
-                            next: step_cw(world, p.start, 1),
-                            in_edge: e_in,
-                            out_edge: EdgeRef::Chain,
-                        });
-                        out.push(Junction {
-                            prev: step_ccw(world, l),
-                            v: l,
-                            next: after,
-                            in_edge: EdgeRef::Chain,
-                            out_edge: e_out,
-                        });
-                    }
-                }
-                Some(out)
-            })
-            .collect()
+        junctions_of(world, &self.faces_with(world, k, mid))
     }
 
     /// The junctions of corridor `k` as it stands, all faces together.
@@ -550,57 +636,7 @@ impl Kss {
         k: CorrId,
         mid: Option<(u32, u32)>,
     ) -> ArrayVec<Option<ArrayVec<Corner, 4>>, 2> {
-        self.junctions_with(world, k, mid)
-            .into_iter()
-            .map(|face| {
-                face.map(|js| {
-                    let n = js.len();
-                    // the junction leaving each bridge of length zero
-                    let merged: ArrayVec<bool, 4> = (0..n)
-                        .map(|x| {
-                            let y = (x + 1) % n;
-                            js[x].out_edge != EdgeRef::Chain
-                                && js[y].in_edge == js[x].out_edge
-                                && coincide_forever(world, js[x].v, js[y].v)
-                        })
-                        .collect();
-                    if !merged.contains(&true) {
-                        return js.into_iter().map(|j| (j, None)).collect();
-                    }
-                    // (the face's other junctions name each corner by the
-                    // end kept, as the face's cycle of places does)
-                    let named = |a: Att| {
-                        (0..n)
-                            .find(|&x| merged[x] && js[(x + 1) % n].v == a)
-                            .map_or(a, |x| js[x].v)
-                    };
-                    (0..n)
-                        .filter(|&y| !merged[(y + n - 1) % n])
-                        .map(|x| {
-                            let j = js[x];
-                            if merged[x] {
-                                let j2 = js[(x + 1) % n];
-                                let corner = Junction {
-                                    prev: named(j.prev),
-                                    v: j.v,
-                                    next: named(j2.next),
-                                    in_edge: j.in_edge,
-                                    out_edge: j2.out_edge,
-                                };
-                                (corner, Some(j2.v))
-                            } else {
-                                let j = Junction {
-                                    prev: named(j.prev),
-                                    next: named(j.next),
-                                    ..j
-                                };
-                                (j, None)
-                            }
-                        })
-                        .collect()
-                })
-            })
-            .collect()
+        corners_of(world, &self.faces_with(world, k, mid))
     }
 
     /// The corners of corridor `k` as it stands (`Kss::corners_with` with its own middle bridge),
@@ -752,7 +788,7 @@ impl Kss {
         };
         // (the points placed at `t` so far, shared by the junctions)
         let mut memo = PointMemo::<16>::default();
-        for (fi, face) in self.corners_with(world, k, mid).into_iter().enumerate() {
+        for (fi, face) in corners_of(world, &shapes).into_iter().enumerate() {
             if alike {
                 let f = shapes[fi];
                 let cycle: Vec<Att> =
@@ -894,7 +930,7 @@ impl Kss {
         // checked last: the faces above reject most candidates more cheaply
         match (clear, mid) {
             (true, Some(m)) if c.b != Obj::Omega => {
-                !self.bridge_over_flush_edges(world, k, m, (t, side))
+                !self.bridge_over_flush_edges(world, k, m, (t, side), &mut memo)
             }
             _ => true,
         }
@@ -906,12 +942,13 @@ impl Kss {
     /// different faces and no certificate sees them meet (issue 4's known
     /// failure: a contact on that line missed); the tangent bridge between
     /// the inner vertices is the one to take.
-    pub(crate) fn bridge_over_flush_edges(
+    pub(crate) fn bridge_over_flush_edges<const N: usize>(
         &self,
         world: &Geo,
         k: CorrId,
         (i, j): (u32, u32),
         (t, side): (&Time, Side),
+        memo: &mut PointMemo<N>,
     ) -> bool {
         let c = &self.corrs[k.0 as usize];
         let (a_s, _, _, b_t) = self.ends(k);
@@ -925,10 +962,10 @@ impl Kss {
                 (at < len).then(|| step_cw(world, x, 1)),
             ]
         };
-        let inside = |x: Att, ns: [Option<Att>; 2], y: Att| {
+        let mut inside = |x: Att, ns: [Option<Att>; 2], y: Att| {
             ns.into_iter().flatten().any(|n| {
                 n != x
-                    && turn_on(world, x, n, y, t, side) == Sign::Zero
+                    && turn_on_memo(world, memo, [x, n, y], t, side) == Sign::Zero
                     && between_on(world, x, n, y, t, side)
             })
         };
