@@ -10,6 +10,7 @@ use super::certs::Cert;
 use super::faces::poly_edge;
 use super::geo::Geo;
 use super::{Att, Obj};
+use crate::geom::MidRad;
 use crate::motion::{middle_of_collinear, LinearPoint};
 use crate::num::Time;
 use crate::world::BodyId;
@@ -187,6 +188,32 @@ fn slides_on_edge(world: &Geo, u: Att, w: Att, t: &Time) -> bool {
     })
 }
 
+/// Whether every point within the radii of `a`'s points is strictly on
+/// one side of every point within the radii of `b`'s, along `x` or along
+/// `y` (the boxes of the two sets are apart): the box sides `m ± r` and
+/// their difference are computed in f64, each rounding at most `ε`
+/// relatively, so the gap must exceed `4ε` times the sides' magnitudes
+/// (and `TINY` for underflow).
+fn boxes_apart(a: [MidRad; 3], b: [MidRad; 3]) -> bool {
+    use crate::geom::{EPS, TINY};
+    let side = |s: [MidRad; 3], c: fn(&MidRad) -> f64| {
+        let lo = s.iter().map(|m| c(m) - m.r).fold(f64::INFINITY, f64::min);
+        let hi = s
+            .iter()
+            .map(|m| c(m) + m.r)
+            .fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let below = |hi: f64, lo: f64| {
+        let gap = lo - hi;
+        gap.is_finite() && gap > 4.0 * EPS * (hi.abs() + lo.abs()) + TINY
+    };
+    [|m: &MidRad| m.x, |m: &MidRad| m.y].into_iter().any(|c| {
+        let ((alo, ahi), (blo, bhi)) = (side(a, c), side(b, c));
+        below(ahi, blo) || below(bhi, alo)
+    })
+}
+
 /// For a failure of a vertex against the line of another body's polygon
 /// edge that is not itself a contact (the vertex is beyond an end of the
 /// edge), whether the two bodies nevertheless touch at `t` right there: a
@@ -245,17 +272,29 @@ pub fn nearby_contact(world: &Geo, p: &[Att; 3], t: &Time) -> Option<(BodyId, Bo
                 && crate::motion::dot_poly(&pu, &p0, &p1).sign_at(t) != crate::num::Sign::Positive,
         )
     };
-    for (a, b) in [(z, x), (x, z)] {
-        let nb = near(b);
-        for u in near(a) {
-            for e in [(nb[0], nb[1]), (nb[1], nb[2])] {
-                if touches(u, e.0, e.1)? {
-                    return Some((body(a), body(b)));
+    let search = || {
+        for (a, b) in [(z, x), (x, z)] {
+            let nb = near(b);
+            for u in near(a) {
+                for e in [(nb[0], nb[1]), (nb[1], nb[2])] {
+                    if touches(u, e.0, e.1)? {
+                        return Some((body(a), body(b)));
+                    }
                 }
             }
         }
+        None
+    };
+    // (every edge above joins two of one body's three points, and every
+    // vertex tested is one of the other body's three: where the boxes of
+    // the two triples are apart, no vertex is in an edge)
+    if let [Some(a0), Some(a1), Some(a2), Some(b0), Some(b1), Some(b2)] = mids {
+        if boxes_apart([a0, a1, a2], [b0, b1, b2]) {
+            debug_assert_eq!(search(), None, "a contact between boxes apart");
+            return None;
+        }
     }
-    None
+    search()
 }
 
 /// For a triple whose vertex `w` lies at time `t` strictly inside an
@@ -433,5 +472,45 @@ mod tests {
             classify(&w, &cert2, &t),
             Failure::Contact { a, b, third: None }
         );
+    }
+
+    #[test]
+    fn boxes_apart_only_with_a_gap_beyond_the_radii() {
+        let m = |x: f64, y: f64, r: f64| MidRad { x, y, r };
+        let a = [m(0.0, 0.0, 0.1), m(1.0, 0.0, 0.1), m(1.0, 1.0, 0.1)];
+        // apart along x, on either side, and along y
+        assert!(boxes_apart(
+            a,
+            [m(1.3, 0.0, 0.1), m(2.0, 5.0, 0.0), m(3.0, -5.0, 0.0)]
+        ));
+        assert!(boxes_apart(
+            [m(1.3, 0.0, 0.1), m(2.0, 5.0, 0.0), m(3.0, -5.0, 0.0)],
+            a
+        ));
+        assert!(boxes_apart(
+            a,
+            [m(0.5, -0.3, 0.1), m(-4.0, -2.0, 0.0), m(9.0, -1.0, 0.0)]
+        ));
+        // boxes that touch or overlap, and a gap within the rounding
+        assert!(!boxes_apart(
+            a,
+            [m(1.1, 0.0, 0.0), m(2.0, 0.0, 0.0), m(3.0, 0.0, 0.0)]
+        ));
+        assert!(!boxes_apart(
+            a,
+            [m(0.5, 0.5, 0.0), m(5.0, 5.0, 0.0), m(6.0, 6.0, 0.0)]
+        ));
+        let e = 1.1 + 1e-17;
+        assert!(!boxes_apart(
+            a,
+            [m(e + 0.1, 0.0, 0.1), m(2.0, 0.0, 0.0), m(3.0, 0.0, 0.0)]
+        ));
+        // not finite: never apart
+        let inf = [
+            m(f64::INFINITY, 0.0, 0.0),
+            m(0.0, 0.0, 0.0),
+            m(0.0, 0.0, 0.0),
+        ];
+        assert!(!boxes_apart(a, inf));
     }
 }
