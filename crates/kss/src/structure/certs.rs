@@ -50,9 +50,18 @@ pub struct Cert {
 
 /// `p` rotated so that its smallest point comes first (a rotation keeps the
 /// orientation): the key under which a turn is stored.
+#[inline]
 pub fn rotate_to_min(p: [Att; 3]) -> [Att; 3] {
-    let m = (0..3).min_by_key(|&i| p[i]).expect("three points");
-    [p[m], p[(m + 1) % 3], p[(m + 2) % 3]]
+    // (the first smallest where points repeat; compared by their words,
+    // which order points as `Att`'s `Ord` does)
+    let [a, b, c] = p.map(Att::word);
+    if a <= b && a <= c {
+        p
+    } else if b <= c {
+        [p[1], p[2], p[0]]
+    } else {
+        [p[2], p[0], p[1]]
+    }
 }
 
 impl Cert {
@@ -250,5 +259,29 @@ mod tests {
         );
         // 8 junctions per corridor face pair, 3k − 3 corridors, 2k − 2 triangles
         assert!(worst <= 26.0 && ratio <= 26.0);
+    }
+
+    proptest::proptest! {
+        /// `rotate_to_min` rotates its triple to the first of its smallest
+        /// points by `Att`'s `Ord` (points repeat in the samples; body 3
+        /// stands for ω, body 2 for the largest index a world can have).
+        #[test]
+        fn rotate_to_min_starts_at_the_first_smallest_point(
+            p in proptest::array::uniform3((0u32..4, 0u32..3)),
+        ) {
+            use crate::structure::{Att, Obj};
+            use crate::world::BodyId;
+            let att = |(o, v): (u32, u32)| match o {
+                3 => Att::OMEGA,
+                2 => Att { obj: Obj::Body(BodyId(u32::MAX - 1)), v },
+                _ => Att { obj: Obj::Body(BodyId(o)), v },
+            };
+            let p = p.map(att);
+            let m = (0..3).min_by_key(|&i| p[i]).expect("three points");
+            proptest::prop_assert_eq!(
+                super::rotate_to_min(p),
+                [p[m], p[(m + 1) % 3], p[(m + 2) % 3]]
+            );
+        }
     }
 }

@@ -427,9 +427,10 @@ impl Kss {
         middle: Att,
     ) -> Result<Outcome, StructureError> {
         let turns = self.hull_turns(world, k);
+        let key = rotate_to_min(p);
         let Some(&(_, x)) = turns
             .iter()
-            .find(|(q, _)| rotate_to_min(*q) == rotate_to_min(p))
+            .find(|(q, _)| rotate_to_min(*q) == key)
             .or_else(|| turns.iter().find(|(q, _)| same_points(*q, p)))
         else {
             return Err(StructureError::Local(
@@ -482,9 +483,10 @@ impl Kss {
         middle: Att,
     ) -> Result<(EdgeRef, Att, Att, bool), StructureError> {
         let all = self.junctions(world, k);
-        let mut js: Vec<_> = all
+        let key = rotate_to_min(p);
+        let mut js: arrayvec::ArrayVec<_, 8> = all
             .iter()
-            .filter(|j| rotate_to_min([j.prev, j.v, j.next]) == rotate_to_min(p))
+            .filter(|j| rotate_to_min([j.prev, j.v, j.next]) == key)
             .copied()
             .collect();
         if js.is_empty() {
