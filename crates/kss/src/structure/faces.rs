@@ -1,6 +1,7 @@
 //! Corridor faces, junctions and the middle bridge.
 
 use super::geo::Geo;
+use super::local::PointMemo;
 use super::{Att, CorrId, Kss, Obj};
 use crate::motion::orient_poly;
 use crate::num::{Sign, Time};
@@ -33,6 +34,32 @@ pub fn turn_after(world: &Geo, u: Att, v: Att, w: Att, t: &Time) -> Sign {
     world.memo_turn([u, v, w], t, true, || {
         orient_poly(&lp(u), &lp(v), &lp(w)).sign_after(t)
     })
+}
+
+/// [`turn_after`] with the points placed through `memo` (the points of one
+/// computation at one instant `t`) for the midpoint–radius filter; where
+/// it does not decide, [`turn_after`] itself.
+fn turn_after_memo<const N: usize>(
+    world: &Geo,
+    memo: &mut PointMemo<N>,
+    [u, v, w]: [Att; 3],
+    t: &Time,
+) -> Sign {
+    if u == v || v == w || u == w {
+        return Sign::Zero;
+    }
+    let tiv = t.interval();
+    if let (Some(a), Some(b), Some(c)) = (
+        memo.place(world, u, tiv),
+        memo.place(world, v, tiv),
+        memo.place(world, w, tiv),
+    ) {
+        if let Some(s) = crate::geom::orient_mid_rad(a, b, c) {
+            super::counters::bump(super::counters::Counter::TurnsFiltered);
+            return s;
+        }
+    }
+    turn_after(world, u, v, w, t)
 }
 
 impl Kss {
@@ -74,7 +101,10 @@ impl Kss {
                 return;
             }
             let (a_s, b_s, a_t, b_t) = self.ends(k);
-            let conv = |u, v, w| turn_after(world, u, v, w, t) == Sign::Positive;
+            // (the walk's steps share their points)
+            let mut memo = PointMemo::<8>::default();
+            let mut tn = |u, v, w| turn_after_memo(world, &mut memo, [u, v, w], t);
+            let mut conv = |u, v, w| tn(u, v, w) == Sign::Positive;
             let four = conv(b_s, a_s, step_cw(world, a_s, 1))
                 && conv(step_ccw(world, a_t), a_t, b_t)
                 && conv(a_t, b_t, step_cw(world, b_t, 1))
@@ -92,15 +122,11 @@ impl Kss {
                 let alpha = step_cw(world, a_s, i);
                 let beta = step_cw(world, b_t, j);
                 let mut moved = false;
-                if i < c.len_a
-                    && turn_after(world, beta, alpha, step_cw(world, alpha, 1), t) != Sign::Positive
-                {
+                if i < c.len_a && !conv(beta, alpha, step_cw(world, alpha, 1)) {
                     i += 1;
                     moved = true;
                 }
-                if j < c.len_b
-                    && turn_after(world, alpha, beta, step_cw(world, beta, 1), t) != Sign::Positive
-                {
+                if j < c.len_b && !conv(alpha, beta, step_cw(world, beta, 1)) {
                     j += 1;
                     moved = true;
                 }
@@ -287,7 +313,7 @@ impl Kss {
                     k,
                     mid,
                     (t, super::local::Side::After),
-                    &mut super::local::PointMemo::<4>::default(),
+                    &mut PointMemo::<4>::default(),
                 ) {
                     return Err(StructureError::Invariant(format!(
                         "corridor {ki}: the middle bridge runs along flush edges of both bodies"

@@ -77,7 +77,7 @@ impl<const N: usize> Default for PointMemo<N> {
 
 impl<const N: usize> PointMemo<N> {
     /// [`Geo::mid_rad`] of `a` at `t`, the same `t` at every call.
-    fn place(
+    pub(crate) fn place(
         &mut self,
         world: &Geo,
         a: Att,
