@@ -194,22 +194,17 @@ impl Lists {
                 }
             }
             Some(ids) => {
-                let mut touched: Vec<BodyId> = Vec::new();
                 for id in ids {
                     if let Some(x) = slots.get(id as usize) {
                         x.each_body(&mut |b| {
                             self.add(b, id);
-                            touched.push(b);
+                            // (a list that doubled since it was last
+                            // filtered is filtered now, so that no list
+                            // outgrows its body's share)
+                            if self.of[b.index()].len() > 2 * self.clean[b.index()].max(16) {
+                                self.filter(slots, b);
+                            }
                         });
-                    }
-                }
-                // (a list that doubled since it was last filtered is
-                // filtered now, so that no list outgrows its body's share)
-                touched.sort_unstable();
-                touched.dedup();
-                for t in touched {
-                    if self.of[t.index()].len() > 2 * self.clean[t.index()].max(16) {
-                        self.filter(slots, t);
                     }
                 }
             }
