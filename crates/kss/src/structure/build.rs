@@ -67,6 +67,15 @@ pub enum Perturbed {
     Yes,
 }
 
+/// The place of a vertex that has none ([`Geo::mid_rad`] is `None`):
+/// not-a-number at an infinite radius, so that every filter on it is
+/// undecided (a real place's radius is finite).
+const UNPLACED: MidRad = MidRad {
+    x: f64::NAN,
+    y: f64::NAN,
+    r: f64::INFINITY,
+};
+
 /// The polygons' vertices at an instant, as the triangulation sees them:
 /// exact positions (computed when the filter does not decide), and with
 /// `shrink`, each moved by `ε` times its offset towards its polygon's
@@ -75,7 +84,9 @@ pub(super) struct Vertices<'g, 'w> {
     world: &'g Geo<'w>,
     t: &'g Rational,
     atts: Vec<Att>,
-    mids: Vec<Option<MidRad>>,
+    /// Each vertex's midpoint and radius at `t`, or [`UNPLACED`] (whose
+    /// filters never decide) where it has none.
+    mids: Vec<MidRad>,
     exact: Vec<OnceCell<Point>>,
     shrink: bool,
     /// The centroids at `t` of the bodies met so far (for `shrink`; a map,
@@ -88,7 +99,10 @@ impl<'g, 'w> Vertices<'g, 'w> {
     /// The vertices of `atts` (all on bodies) at `t`.
     pub(super) fn new(world: &'g Geo<'w>, t: &'g Rational, atts: Vec<Att>, shrink: bool) -> Self {
         let tiv = t.interval();
-        let mids = atts.iter().map(|&a| world.mid_rad(a, tiv)).collect();
+        let mids = atts
+            .iter()
+            .map(|&a| world.mid_rad(a, tiv).unwrap_or(UNPLACED))
+            .collect();
         let n = atts.len();
         Vertices {
             world,
@@ -130,11 +144,8 @@ impl<'g, 'w> Vertices<'g, 'w> {
     }
 
     fn cmp_coord(&self, a: usize, b: usize, x: bool) -> Ordering {
-        let filtered = match (self.mids[a], self.mids[b]) {
-            (Some(p), Some(q)) if x => p.cmp_x(q),
-            (Some(p), Some(q)) => p.cmp_y(q),
-            _ => None,
-        };
+        let (p, q) = (self.mids[a], self.mids[b]);
+        let filtered = if x { p.cmp_x(q) } else { p.cmp_y(q) };
         let c = filtered.unwrap_or_else(|| {
             let (p, q) = (self.exact(a), self.exact(b));
             if x {
@@ -162,10 +173,8 @@ impl cdt::Predicates for Vertices<'_, '_> {
     }
 
     fn orient(&self, a: usize, b: usize, c: usize) -> Sign {
-        if let (Some(p), Some(q), Some(r)) = (self.mids[a], self.mids[b], self.mids[c]) {
-            if let Some(s) = orient_mid_rad(p, q, r) {
-                return s;
-            }
+        if let Some(s) = orient_mid_rad(self.mids[a], self.mids[b], self.mids[c]) {
+            return s;
         }
         let (p, q, r) = (self.exact(a), self.exact(b), self.exact(c));
         let s = orient(p, q, r);
@@ -183,13 +192,9 @@ impl cdt::Predicates for Vertices<'_, '_> {
     }
 
     fn in_circle(&self, a: usize, b: usize, c: usize, d: usize) -> bool {
-        match (self.mids[a], self.mids[b], self.mids[c], self.mids[d]) {
-            (Some(p), Some(q), Some(r), Some(s)) => {
-                in_circle_static(p, q, r, s).or_else(|| in_circle_mid_rad(p, q, r, s))
-                    == Some(Sign::Positive)
-            }
-            _ => false,
-        }
+        let [p, q, r, s] = [a, b, c, d].map(|i| self.mids[i]);
+        in_circle_static(p, q, r, s).or_else(|| in_circle_mid_rad(p, q, r, s))
+            == Some(Sign::Positive)
     }
 
     /// Two vertices of one body (polygon or approximation, convex, its
@@ -200,7 +205,8 @@ impl cdt::Predicates for Vertices<'_, '_> {
     }
 
     fn position_hint(&self, a: usize) -> Option<[f64; 2]> {
-        self.mids[a].map(|m| [m.x, m.y])
+        let m = self.mids[a];
+        m.r.is_finite().then_some([m.x, m.y])
     }
 }
 
@@ -367,6 +373,27 @@ mod tests {
     use crate::gen::{generate_small, Family};
     use crate::structure::geo::Geo;
     use crate::world::World;
+
+    /// Every filter of the triangulation is undecided on a vertex without
+    /// a place, wherever it stands among the points.
+    #[test]
+    fn an_unplaced_vertex_decides_no_filter() {
+        let m = |x: f64, y: f64| MidRad { x, y, r: 0.0 };
+        let (p, q, r) = (m(0.0, 0.0), m(1.0, 0.0), m(0.0, 1.0));
+        let u = UNPLACED;
+        assert_eq!(orient_mid_rad(p, q, r), Some(Sign::Positive));
+        for [a, b, c] in [[u, q, r], [p, u, r], [p, q, u]] {
+            assert_eq!(orient_mid_rad(a, b, c), None);
+        }
+        for [a, b, c, d] in [[u, q, r, p], [p, u, r, q], [p, q, u, r], [p, q, r, u]] {
+            assert_eq!(in_circle_static(a, b, c, d), None);
+            assert_eq!(in_circle_mid_rad(a, b, c, d), None);
+        }
+        assert_eq!(
+            (u.cmp_x(p), p.cmp_x(u), u.cmp_y(p), p.cmp_y(u)),
+            (None, None, None, None)
+        );
+    }
 
     #[test]
     fn construction_topology_on_generated_scenes() {
