@@ -27,6 +27,8 @@
 //! one corner of a triangle, and only the two corridors at that corner, and
 //! hull corridors (whose turns read the triangle's third corner), see it.
 
+use arrayvec::ArrayVec;
+
 use super::certs::rotate_to_min;
 use super::faces::{poly_edge, step_ccw, step_cw};
 use super::geo::Geo;
@@ -100,15 +102,27 @@ pub struct Outcome {
     /// The operation.
     pub kind: EventKind,
     /// Partition triangles whose corners changed.
-    pub tris: Vec<TriId>,
+    pub tris: ArrayVec<TriId, 2>,
     /// Corridors whose ends, chains or middle bridge changed (or whose hull
     /// turns depend on a changed triangle): normalized and given their
     /// certificates anew.
-    pub corrs: Vec<CorrId>,
+    pub corrs: ArrayVec<CorrId, 5>,
     /// Corridors between two bodies next to a changed triangle whose own
     /// ends, chains and middle bridge did not change (their faces and
     /// certificates are what they were): candidates for coarsening only.
-    pub near: Vec<CorrId>,
+    pub near: ArrayVec<CorrId, 4>,
+}
+
+/// Drop the repeats of sorted `xs` (`Vec::dedup` for an `ArrayVec`).
+pub(crate) fn dedup_sorted<T: PartialEq + Copy, const N: usize>(xs: &mut ArrayVec<T, N>) {
+    let mut kept = 0;
+    for i in 0..xs.len() {
+        if kept == 0 || xs[i] != xs[kept - 1] {
+            xs[kept] = xs[i];
+            kept += 1;
+        }
+    }
+    xs.truncate(kept);
 }
 
 /// Whether the three points of `q` and `p` are the same set. A certificate
@@ -265,10 +279,10 @@ impl Kss {
             ((t2, ((e2 + 2) % 3) as u8), (t2, 1)),
             ((t1, ((e + 1) % 3) as u8), (t2, 2)),
         ];
-        let mut outer = vec![c_pq, c_qd, c_dr, c_rp];
+        let mut outer: ArrayVec<CorrId, 4> = [c_pq, c_qd, c_dr, c_rp].into();
         outer.sort();
-        outer.dedup();
-        outer.retain(|&kk| kk != k);
+        dedup_sorted(&mut outer);
+        outer.retain(|kk| *kk != k);
         for &kk in &outer {
             let c = self.corrs.on_same_bodies(kk.0 as usize);
             for end in [&mut c.s, &mut c.t] {
@@ -286,9 +300,14 @@ impl Kss {
         c.mid = None;
         // (the four outer corridors keep their sides' two corners: only a
         // hull corridor's turns read the triangle's third corner)
-        let (mut corrs, near): (Vec<CorrId>, Vec<CorrId>) = outer
-            .into_iter()
-            .partition(|&kk| self.corrs[kk.0 as usize].b == Obj::Omega);
+        let (mut corrs, mut near) = (ArrayVec::new(), ArrayVec::new());
+        for kk in outer {
+            if self.corrs[kk.0 as usize].b == Obj::Omega {
+                corrs.push(kk);
+            } else {
+                near.push(kk);
+            }
+        }
         corrs.push(k);
         Ok(Outcome {
             kind: if p.is_omega() || d.is_omega() || q.is_omega() || r.is_omega() {
@@ -296,7 +315,7 @@ impl Kss {
             } else {
                 EventKind::Flip
             },
-            tris: vec![t1, t2],
+            tris: [t1, t2].into(),
             corrs,
             near,
         })
@@ -316,8 +335,9 @@ impl Kss {
         // read the triangle's third corner)
         let around = self.tris[tri.0 as usize].corr;
         let opposite = around[(ci + 1) % 3];
-        let mut corrs = vec![around[ci], around[(ci + 2) % 3]];
-        let mut near = Vec::new();
+        let mut corrs: ArrayVec<CorrId, 5> = ArrayVec::new();
+        corrs.extend([around[ci], around[(ci + 2) % 3]]);
+        let mut near = ArrayVec::new();
         if self.corrs[opposite.0 as usize].b == Obj::Omega {
             corrs.push(opposite);
         } else if !corrs.contains(&opposite) {
@@ -325,7 +345,7 @@ impl Kss {
         }
         Ok(Outcome {
             kind,
-            tris: vec![tri],
+            tris: [tri].into_iter().collect(),
             corrs,
             near,
         })
@@ -574,9 +594,9 @@ impl Kss {
                 self.corrs.on_same_bodies(ki).mid = Some(m);
                 Ok(Outcome {
                     kind: EventKind::MidSlide,
-                    tris: vec![],
-                    corrs: vec![k],
-                    near: vec![],
+                    tris: ArrayVec::new(),
+                    corrs: [k].into_iter().collect(),
+                    near: ArrayVec::new(),
                 })
             }
             EdgeRef::EndS | EdgeRef::EndT if onto => {
@@ -601,9 +621,9 @@ impl Kss {
                 self.corrs.on_same_bodies(ki).mid = Some(m);
                 Ok(Outcome {
                     kind: EventKind::InsertMid,
-                    tris: vec![],
-                    corrs: vec![k],
-                    near: vec![],
+                    tris: ArrayVec::new(),
+                    corrs: [k].into_iter().collect(),
+                    near: ArrayVec::new(),
                 })
             }
         }

@@ -801,7 +801,8 @@ impl Kinetic {
         t: &Time,
     ) -> Result<u64, StructureError> {
         let mut merges = 0;
-        for k in std::mem::take(&mut self.last_touched) {
+        let touched = std::mem::take(&mut self.last_touched);
+        for &k in &touched {
             self.tick = self.tick.wrapping_add(1);
             let (by_body, certs, queue) = (&self.by_body, &self.certs, &self.queue);
             let busy = |kv: Att, qv: Att| {
@@ -838,6 +839,13 @@ impl Kinetic {
             let (named, mut owners) = self.owners_naming(b, &[q]);
             owners.insert(Owner::Corr(k));
             self.refresh_moved(&geo, &[(b, vec![q])], (named, owners), t)?;
+        }
+        // (the list's buffer for the next event, unless the loop made a
+        // new list)
+        if self.last_touched.is_empty() {
+            let mut touched = touched;
+            touched.clear();
+            self.last_touched = touched;
         }
         self.tally.merges += merges;
         Ok(merges)

@@ -731,7 +731,7 @@ impl Kinetic {
         self.tally.events(out.kind, 1);
         let mut corrs = out.corrs;
         corrs.sort();
-        corrs.dedup();
+        crate::structure::ops::dedup_sorted(&mut corrs);
         for &k in &corrs {
             self.kss.known = self.known_junctions(k, t);
             let steps = self.kss.normalize(world, k, t, None);
@@ -747,11 +747,13 @@ impl Kinetic {
             self.refresh(world, Owner::Corr(k), t)?;
         }
         // (the corridors next to a changed triangle that did not change are
-        // candidates for coarsening too)
-        corrs.extend(out.near);
-        corrs.sort();
-        corrs.dedup();
-        self.last_touched = corrs;
+        // candidates for coarsening too; the list's buffer is kept from
+        // event to event)
+        self.last_touched.clear();
+        self.last_touched
+            .extend(corrs.iter().chain(&out.near).copied());
+        self.last_touched.sort();
+        self.last_touched.dedup();
         Ok(())
     }
 }
