@@ -74,13 +74,14 @@ pub(super) struct InstantState {
     pub(super) zero: Option<(Time, Vec<KnownZero>)>,
     /// Popped failures of the current instant that wait until every possible
     /// contact of the instant has been classified.
-    pub(super) later: Option<(Time, Vec<[Att; 3]>)>,
+    /// (Inline: most instants have one or two.)
+    pub(super) later: Option<(Time, smallvec::SmallVec<[[Att; 3]; 2]>)>,
     /// How each certificate of `later` was classified when it was popped
     /// ([`crate::structure::events::classify`]), with the views of its
     /// points' bodies then ([`Geo::view_words`]), and the instant: the same
     /// failure when it is handled at that instant, unless a pop or a motion
     /// change came between.
-    pub(super) classified: Option<(Time, Vec<Classified>)>,
+    pub(super) classified: Option<(Time, smallvec::SmallVec<[Classified; 2]>)>,
     /// The certificate whose failure is being handled.
     pub(super) handling: Option<[Att; 3]>,
     /// The rebuild that waits for the collision response, if any.

@@ -329,12 +329,15 @@ impl Kinetic {
             // structural failure
             match &mut self.instant.later {
                 Some((_, ps)) => ps.push(p),
-                None => self.instant.later = Some((t.clone(), vec![p])),
+                None => self.instant.later = Some((t.clone(), smallvec::smallvec![p])),
             }
             let views = p.map(|a| world.obj_view_words(a.obj));
             match &mut self.instant.classified {
                 Some((at, kept)) if at.is_known_same(&t) => kept.push((p, views, failure)),
-                _ => self.instant.classified = Some((t.clone(), vec![(p, views, failure)])),
+                _ => {
+                    self.instant.classified =
+                        Some((t.clone(), smallvec::smallvec![(p, views, failure)]))
+                }
             }
             return Ok(Step::Deferred(t));
         }
