@@ -20,6 +20,7 @@ use crate::world::BodyId;
 
 use super::instant::InstantState;
 use super::step::each_body;
+use super::Owned;
 use super::{due_time, fingerprint, CertId, Fingerprint, Kinetic, Scheduled};
 use crate::structure::local::MAX_CERTS;
 
@@ -464,8 +465,8 @@ impl Kinetic {
         world: &Geo,
         now: &Time,
     ) -> Result<(), StructureError> {
-        self.owned_tri = vec![Vec::new(); self.kss.tris.len()];
-        self.owned_corr = vec![Vec::new(); self.kss.corrs.len()];
+        self.owned_tri = vec![Owned::new(); self.kss.tris.len()];
+        self.owned_corr = vec![Owned::new(); self.kss.corrs.len()];
         for ti in 0..self.kss.tris.len() {
             self.refresh(world, Owner::Tri(TriId(ti as u32)), now)?;
         }
@@ -547,7 +548,7 @@ impl Kinetic {
             old.clear();
             old
         } else {
-            Vec::with_capacity(fresh.len())
+            Owned::with_capacity(fresh.len())
         };
         for (c, same) in fresh.into_iter().zip(same) {
             if let Some(id) = same {

@@ -48,6 +48,13 @@ pub use tally::{Rebuild, Tally};
 use instant::InstantState;
 use store::{CertId, CertStore};
 
+/// The certificates an owner owns, in its order: inline for one (a
+/// partition triangle owns one; a corridor up to [`MAX_CERTS`], on the
+/// heap), the size of a `Vec` either way.
+///
+/// [`MAX_CERTS`]: crate::structure::local::MAX_CERTS
+type Owned = smallvec::SmallVec<[CertId; 1]>;
+
 /// A hash map with a fixed hasher (the same order in every run).
 type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
 
@@ -264,9 +271,9 @@ pub struct Kinetic {
     /// tie-breaker).
     by_body: ByBody,
     /// The certificates each partition triangle owns.
-    owned_tri: Vec<Vec<CertId>>,
+    owned_tri: Vec<Owned>,
     /// The certificates each corridor owns.
-    owned_corr: Vec<Vec<CertId>>,
+    owned_corr: Vec<Owned>,
     queue: EventQueue<Time, CertId>,
     /// Certificates out of the queue until a bridge ends (`Scheduled::idle`):
     /// counted as scheduled.

@@ -15,6 +15,7 @@ use crate::world::BodyId;
 use super::book::{cert_poly, due_is_failing, resting_flat};
 use super::instant::Broken;
 use super::tally::Rebuild;
+use super::Owned;
 use super::{due_time, CertId, Kinetic};
 
 /// The local repair's candidate sets ([`Kinetic::repair_around`]): queue
@@ -566,13 +567,13 @@ impl Kinetic {
             self.rename(&mine, Owner::Tri(src), Owner::Tri(dst));
             self.owned_tri[dst.0 as usize] = mine;
         }
-        self.owned_tri.resize(self.kss.tris.len(), Vec::new());
+        self.owned_tri.resize(self.kss.tris.len(), Owned::new());
         for &(src, dst) in &spliced.moved_corrs {
             let mine = std::mem::take(&mut self.owned_corr[src.0 as usize]);
             self.rename(&mine, Owner::Corr(src), Owner::Corr(dst));
             self.owned_corr[dst.0 as usize] = mine;
         }
-        self.owned_corr.resize(self.kss.corrs.len(), Vec::new());
+        self.owned_corr.resize(self.kss.corrs.len(), Owned::new());
         self.last_touched.clear();
         for &k in &spliced.corrs {
             self.kss.place_middle_bridge(world, k, now);

@@ -65,7 +65,7 @@ fn the_audit_reports_ids_out_of_step_with_the_records() {
         Owner::Tri(t) => &mut k.owned_tri[t.0 as usize],
         Owner::Corr(c) => &mut k.owned_corr[c.0 as usize],
     };
-    list.retain(|&x| x != id);
+    list.retain(|x| *x != id);
     assert!(k.audit(&world, &now, &at).is_err());
     // its queued event naming another certificate
     let mut k = fresh();
