@@ -452,15 +452,19 @@ impl Known<'_> {
 /// Sort `certs` and drop repeats.
 fn sort_dedup(certs: &mut Certs) {
     certs.sort();
-    // (sorted: a repeated certificate follows its first copy)
+    dedup_sorted(certs);
+}
+
+/// Drop the repeats of sorted `xs` (`Vec::dedup` for an `ArrayVec`).
+pub(crate) fn dedup_sorted<T: PartialEq + Copy, const N: usize>(xs: &mut ArrayVec<T, N>) {
     let mut kept = 0;
-    for i in 0..certs.len() {
-        if kept == 0 || certs[i] != certs[kept - 1] {
-            certs[kept] = certs[i];
+    for i in 0..xs.len() {
+        if kept == 0 || xs[i] != xs[kept - 1] {
+            xs[kept] = xs[i];
             kept += 1;
         }
     }
-    certs.truncate(kept);
+    xs.truncate(kept);
 }
 
 /// The junctions of `faces` (a corridor's, [`Kss::faces_with`]), face by

@@ -32,7 +32,7 @@ use arrayvec::ArrayVec;
 use super::certs::rotate_to_min;
 use super::faces::{poly_edge, step_ccw, step_cw};
 use super::geo::Geo;
-use super::local::{turn, EdgeRef};
+use super::local::{dedup_sorted, turn, EdgeRef};
 use super::{Att, CorrId, Kss, Obj, PartitionTriangle, TriId};
 use crate::num::{Sign, Time};
 use crate::structure::StructureError;
@@ -111,18 +111,6 @@ pub struct Outcome {
     /// ends, chains and middle bridge did not change (their faces and
     /// certificates are what they were): candidates for coarsening only.
     pub near: ArrayVec<CorrId, 4>,
-}
-
-/// Drop the repeats of sorted `xs` (`Vec::dedup` for an `ArrayVec`).
-pub(crate) fn dedup_sorted<T: PartialEq + Copy, const N: usize>(xs: &mut ArrayVec<T, N>) {
-    let mut kept = 0;
-    for i in 0..xs.len() {
-        if kept == 0 || xs[i] != xs[kept - 1] {
-            xs[kept] = xs[i];
-            kept += 1;
-        }
-    }
-    xs.truncate(kept);
 }
 
 /// Whether the three points of `q` and `p` are the same set. A certificate

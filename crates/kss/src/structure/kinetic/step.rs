@@ -734,7 +734,7 @@ impl Kinetic {
         self.tally.events(out.kind, 1);
         let mut corrs = out.corrs;
         corrs.sort();
-        crate::structure::ops::dedup_sorted(&mut corrs);
+        crate::structure::local::dedup_sorted(&mut corrs);
         for &k in &corrs {
             self.kss.known = self.known_junctions(k, t);
             let steps = self.kss.normalize(world, k, t, None);
