@@ -523,7 +523,12 @@ impl Kinetic {
         if s.key.is_some() {
             return Ok(Step::Deferred(t)); // rescheduled meanwhile
         }
-        let (cert, fp, popped) = (s.cert, s.fp.as_deref().copied(), s.popped.clone());
+        // (the popped time itself, not its box: no allocation)
+        let (cert, fp, popped) = (
+            s.cert,
+            s.fp.as_deref().copied(),
+            s.popped.as_deref().cloned(),
+        );
         let owners = s.owners.clone();
         if self.instant.recent_at.as_ref() != Some(&t) {
             self.instant.recent.clear();
@@ -533,7 +538,7 @@ impl Kinetic {
             self.instant.recent.pop_front();
         }
         self.instant.recent.push_back(p);
-        if !due_is_failing(world, &cert, (fp.as_ref(), popped.as_deref()), &t) {
+        if !due_is_failing(world, &cert, (fp.as_ref(), popped.as_ref()), &t) {
             // an operation at this instant made it hold again
             self.reschedule(world, &p, &t);
             return Ok(Step::Deferred(t));
@@ -574,7 +579,7 @@ impl Kinetic {
             None => classify(world, &cert, &t),
         };
         if let Failure::Contact { a, b, third } = failure {
-            let zero = root_at(world, &cert, fp.as_ref(), popped.as_deref(), &t);
+            let zero = root_at(world, &cert, fp.as_ref(), popped.as_ref(), &t);
             let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
             let pairs = contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
             if let Some(step) = self.touch(world, p, &t, pairs, apart, collides) {
