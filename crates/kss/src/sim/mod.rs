@@ -6,4 +6,4 @@
 
 pub mod queue;
 
-pub use queue::{EventKey, EventQueue, Iter, QueueStats, DEFAULT_ARITY};
+pub use queue::{Enclosed, EventKey, EventQueue, Iter, QueueStats, DEFAULT_ARITY};

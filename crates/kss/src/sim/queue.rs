@@ -46,10 +46,14 @@
 //!   (`priority`, `tie`, `seq`, payload) if the slot is occupied, and either
 //!   the event's current heap position (kept up to date on every move) or the
 //!   next free slot;
-//! * the heap array holds only `u32` slot indices, so sifting moves 4-byte
+//! * the heap array holds the slot indices with an `f64` enclosure of each
+//!   event's priority ([`Enclosed`]; 24-byte nodes), so sifting moves small
 //!   values with a hole (no swaps) and never moves priorities or payloads,
 //!   which matters because exact times are large (the crate's exact time
-//!   type, `num::Time`, is 72 bytes).
+//!   type, `num::Time`, is 72 bytes); and a comparison whose enclosures are
+//!   apart reads the heap array only, not the two slots (most comparisons:
+//!   distinct failure times rarely share an enclosure), which keeps a sift
+//!   within a few cache lines of one array.
 //!
 //! Cancel and reschedule therefore find the event in `O(1)` and repair the
 //! heap in `O(log n)`. Nothing is ever deleted lazily: the heap contains
@@ -60,8 +64,9 @@
 //!
 //! Priorities can be expensive to compare (exact times may fall back to
 //! big-integer arithmetic), so the implementation minimises calls to
-//! [`Ord::cmp`] on `P`: each heap comparison calls `P::cmp` exactly once and
-//! only looks at `tie` and `seq` on equality, and the downward repair (used by
+//! [`Ord::cmp`] on `P`: each heap comparison calls `P::cmp` at most once (not
+//! at all when the enclosures decide) and only looks at `tie` and `seq` on
+//! equality, and the downward repair (used by
 //! `pop`, `cancel` and by `reschedule` to a later time) is *bottom-up*: the
 //! hole first goes down to a leaf along the path of smallest children, using
 //! only `D - 1` comparisons per level, and the displaced event then climbs
@@ -73,43 +78,42 @@
 //!
 //! ## Arity and layout: what was measured
 //!
-//! The arity `D` is a const parameter, default [`DEFAULT_ARITY`] = 2. A 4-ary
-//! heap has half as many levels, which makes upward sifts (schedule, earlier
-//! reschedule) cheaper, but its bottom-up downward sifts need
-//! `3 log4 n = 1.5 log2 n` comparisons instead of `log2 n`.
+//! The arity `D` is a const parameter, default [`DEFAULT_ARITY`] = 4. A 4-ary
+//! heap has half as many levels as a binary one, which makes upward sifts
+//! (schedule, earlier reschedule) cheaper, but its bottom-up downward sifts
+//! need `3 log4 n = 1.5 log2 n` comparisons instead of `log2 n`. With the
+//! enclosures in the heap array most comparisons cost a few instructions on
+//! one array, so the extra comparisons cost less than the levels saved.
 //!
 //! Workload of `benches/queue.rs`: 10^4 live events; per processed event, pop
 //! the minimum, schedule a replacement, and for 4 random other events either
 //! reschedule or cancel and schedule again (new times uniform in
-//! `now + [1, 2^20]`). Measured on the 2-core development machine (noisy,
-//! other builds were running):
+//! `now + [1, 2^20]`). Criterion's median time per processed event
+//! (`cargo bench -p kss --bench queue`, 2026-11-30 on the 2-core development
+//! machine, which is noisy: ±10 % from run to run); the rows without
+//! enclosures are the same heap holding slot indices only (every comparison
+//! reads both slots), run by the same bench at commit ebcc722 minutes apart:
 //!
 //! ```text
-//!                            comparisons  ns/event, u64 time   ns/event, 128-byte time
-//!                            per event    wall      CPU        wall      CPU
-//! EventQueue, D = 2 (default)   30.2        830      590        1310      760
-//! EventQueue, D = 4             34.8        690      510        1400      680
-//! std BinaryHeap, lazy delete   82.7       2270     1090        4040     2320
-//! keyed_priority_queue 0.4      41.0       1480      760        2890     1730
+//!                                      heap comparisons  ns/event
+//!                                      per event         u64 time   128-byte time
+//! EventQueue, D = 4 (default)              34.8             430        508
+//! EventQueue, D = 2                        30.2             519        616
+//! EventQueue without enclosures, D = 4     34.8             500        640
+//! EventQueue without enclosures, D = 2     30.2             495        603
+//! std BinaryHeap, lazy delete              82.7            1001       2249
+//! keyed_priority_queue 0.4                 41.0             621       1280
 //! ```
 //!
-//! "wall" is criterion's median (`cargo bench -p kss --bench queue`, load
-//! average 4 to 6 on 2 cores), "CPU" the thread's CPU time for 10^6 events,
-//! best of 3; both vary by ±15% from run to run. The 128-byte time is a
-//! stand-in for the exact time type: compared by a floating-point enclosure,
-//! with an atomic statistics counter bumped per comparison. The lazy heap
-//! holds about 31,000 entries for the 10,000 live events.
-//!
-//! The binary heap makes 13% fewer comparisons; the 4-ary heap is about 10%
-//! faster when comparisons are cheap (fewer levels, so fewer moves and slot
-//! updates), which breaks even at roughly 15 to 20 ns per comparison. An exact
-//! comparison that falls back to big integers costs far more than that, and
-//! such fallbacks are frequent exactly when many events share an instant, so
-//! the default is 2; `EventQueue<P, E, 4>` is one type parameter away if a
-//! profile of the simulator says otherwise. An earlier version stored the
-//! priorities inside the heap array and swapped entries: about 8% faster with
-//! `u64`, but about 30% slower with 128-byte priorities, so the index layout
-//! was kept.
+//! The 128-byte time is a stand-in for the exact time type: compared by a
+//! floating-point enclosure (also its [`Enclosed`] enclosure), with an
+//! atomic statistics counter bumped per comparison. The lazy heap holds about
+//! 31,000 entries for the 10,000 live events. In the kinetic structure
+//! (exact 72-byte times, about 6,000 live certificates on the gasmix of
+//! `kss-bench`) a whole run without the enclosures takes 0.8 % more
+//! instructions (callgrind: 0.8626e9 against 0.8558e9 on the gasmix,
+//! 1.3765e9 against 1.3645e9 on the 1000 16-gons to t = 0.6, both with
+//! `D = 2`), and `D = 2` 0.05 % more than `D = 4`.
 //!
 //! # Current time and statistics
 //!
@@ -131,10 +135,59 @@ use std::iter::FusedIterator;
 
 /// Arity used by [`EventQueue`] when none is given. See the module docs for the
 /// measurements behind the choice.
-pub const DEFAULT_ARITY: usize = 2;
+pub const DEFAULT_ARITY: usize = 4;
 
 /// Marker for "no slot" in the free list.
 const NONE: u32 = u32::MAX;
+
+/// A priority with a cheap enclosure of its value, for the heap to compare
+/// without reading the priority itself (module docs, "Layout").
+///
+/// The enclosure must agree with [`Ord`]: whenever `a.enclosure().1 <
+/// b.enclosure().0`, `a < b`. A NaN bound never decides (every comparison
+/// with it is false), so `(f64::NAN, f64::NAN)` is always allowed.
+pub trait Enclosed {
+    /// `(lo, hi)` with `lo ≤` the value `≤ hi` in the sense above.
+    fn enclosure(&self) -> (f64, f64);
+}
+
+/// Integers convert to `f64` monotonically (rounding to nearest never
+/// reverses an order), so the converted value is an enclosure of itself.
+macro_rules! enclosed_int {
+    ($($t:ty),*) => {$(
+        impl Enclosed for $t {
+            #[inline]
+            fn enclosure(&self) -> (f64, f64) {
+                let x = *self as f64;
+                (x, x)
+            }
+        }
+    )*};
+}
+enclosed_int!(u8, u16, u32, u64, usize, i8, i16, i32, i64, isize);
+
+impl Enclosed for crate::num::Time {
+    #[inline]
+    fn enclosure(&self) -> (f64, f64) {
+        let iv = self.interval();
+        (iv.lo, iv.hi)
+    }
+}
+
+/// A heap entry: the slot of an event and its priority's enclosure.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: f64,
+    hi: f64,
+    slot: u32,
+}
+
+impl Node {
+    fn of<P: Enclosed>(slot: u32, priority: &P) -> Node {
+        let (lo, hi) = priority.enclosure();
+        Node { lo, hi, slot }
+    }
+}
 
 /// Stable handle to an event scheduled in an [`EventQueue`].
 ///
@@ -194,7 +247,7 @@ struct Entry<P, E> {
 
 impl<P: Ord, E> Entry<P, E> {
     /// The documented strict order: `(priority, tie, seq)`, calling `P::cmp`
-    /// exactly once.
+    /// exactly once (the heap asks only where the enclosures do not decide).
     #[inline]
     fn precedes(&self, other: &Self) -> bool {
         match self.priority.cmp(&other.priority) {
@@ -222,8 +275,9 @@ struct Slot<P, E> {
 /// arity (at least 2).
 #[derive(Clone, Debug)]
 pub struct EventQueue<P, E, const D: usize = DEFAULT_ARITY> {
-    /// The implicit heap: slot indices of the live events.
-    heap: Vec<u32>,
+    /// The implicit heap: slot indices of the live events, each with its
+    /// priority's enclosure.
+    heap: Vec<Node>,
     /// Slot table: events, generations, heap positions / free-list links.
     slots: Vec<Slot<P, E>>,
     /// Head of the free-slot list.
@@ -236,13 +290,13 @@ pub struct EventQueue<P, E, const D: usize = DEFAULT_ARITY> {
     stats: QueueStats,
 }
 
-impl<P: Ord + Clone, E, const D: usize> Default for EventQueue<P, E, D> {
+impl<P: Ord + Clone + Enclosed, E, const D: usize> Default for EventQueue<P, E, D> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
+impl<P: Ord + Clone + Enclosed, E, const D: usize> EventQueue<P, E, D> {
     /// Creates an empty queue.
     pub fn new() -> Self {
         Self::with_capacity(0)
@@ -281,6 +335,7 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
     pub fn schedule(&mut self, priority: P, tie: u64, payload: E) -> EventKey {
         let seq = self.next_seq;
         self.next_seq += 1;
+        let (lo, hi) = priority.enclosure();
         let slot = self.alloc_slot(Entry {
             priority,
             tie,
@@ -288,7 +343,7 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
             payload,
         });
         let pos = self.heap.len();
-        self.heap.push(slot);
+        self.heap.push(Node { lo, hi, slot });
         self.sift_up(pos);
         self.stats.scheduled += 1;
         self.stats.max_len = self.stats.max_len.max(self.heap.len());
@@ -312,6 +367,7 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
         let Some(pos) = self.position(key) else {
             return false;
         };
+        self.heap[pos] = Node::of(key.index, &new_priority);
         let entry = self.entry_mut(key.index);
         let direction = new_priority.cmp(&entry.priority);
         entry.priority = new_priority;
@@ -346,7 +402,7 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
 
     /// The next event to pop: its key, priority, tie-breaker and payload.
     pub fn peek(&self) -> Option<(EventKey, &P, u64, &E)> {
-        let slot = *self.heap.first()?;
+        let slot = self.heap.first()?.slot;
         let entry = self.entry(slot);
         Some((
             self.key_of(slot),
@@ -379,8 +435,8 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
     /// Removes every event (all their keys become dead). `now` and the
     /// statistics are kept.
     pub fn clear(&mut self) {
-        while let Some(slot) = self.heap.pop() {
-            self.free_slot(slot);
+        while let Some(node) = self.heap.pop() {
+            self.free_slot(node.slot);
         }
     }
 
@@ -455,17 +511,24 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
             .expect("EventQueue: live slot without event")
     }
 
-    /// Whether the event in slot `a` precedes the one in slot `b`.
+    /// Whether the event of node `a` precedes the one of node `b`: by the
+    /// enclosures where they are apart, else by the events.
     #[inline]
-    fn precedes(&self, a: u32, b: u32) -> bool {
-        self.entry(a).precedes(self.entry(b))
+    fn precedes(&self, a: Node, b: Node) -> bool {
+        if a.hi < b.lo {
+            return true;
+        }
+        if b.hi < a.lo {
+            return false;
+        }
+        self.entry(a.slot).precedes(self.entry(b.slot))
     }
 
-    /// Records that slot `slot` is at heap position `pos`.
+    /// Records that node `node` is at heap position `pos`.
     #[inline]
-    fn place(&mut self, pos: usize, slot: u32) {
-        self.heap[pos] = slot;
-        self.slots[slot as usize].pos = pos as u32;
+    fn place(&mut self, pos: usize, node: Node) {
+        self.heap[pos] = node;
+        self.slots[node.slot as usize].pos = pos as u32;
     }
 
     /// Takes a free slot (or a new one) for `entry`.
@@ -518,7 +581,7 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
                 self.sift_down(pos);
             }
         }
-        removed
+        removed.slot
     }
 
     /// Moves the event at heap position `pos` up to its place.
@@ -551,15 +614,15 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
             }
             let end = (first + D).min(len);
             let mut best = first;
-            let mut best_slot = self.heap[first];
+            let mut best_node = self.heap[first];
             for child in first + 1..end {
-                let child_slot = self.heap[child];
-                if self.precedes(child_slot, best_slot) {
+                let child_node = self.heap[child];
+                if self.precedes(child_node, best_node) {
                     best = child;
-                    best_slot = child_slot;
+                    best_node = child_node;
                 }
             }
-            self.place(pos, best_slot);
+            self.place(pos, best_node);
             pos = best;
         }
         while pos > start {
@@ -580,7 +643,7 @@ impl<P: Ord + Clone, E, const D: usize> EventQueue<P, E, D> {
 /// [`EventQueue::iter`].
 #[derive(Clone, Debug)]
 pub struct Iter<'a, P, E> {
-    heap: std::slice::Iter<'a, u32>,
+    heap: std::slice::Iter<'a, Node>,
     slots: &'a [Slot<P, E>],
 }
 
@@ -588,7 +651,7 @@ impl<'a, P, E> Iterator for Iter<'a, P, E> {
     type Item = (EventKey, &'a P, u64, &'a E);
 
     fn next(&mut self) -> Option<Self::Item> {
-        let index = *self.heap.next()?;
+        let index = self.heap.next()?.slot;
         let slot = &self.slots[index as usize];
         let entry = slot
             .entry
@@ -610,7 +673,7 @@ impl<P, E> ExactSizeIterator for Iter<'_, P, E> {}
 
 impl<P, E> FusedIterator for Iter<'_, P, E> {}
 
-impl<'a, P: Ord + Clone, E, const D: usize> IntoIterator for &'a EventQueue<P, E, D> {
+impl<'a, P: Ord + Clone + Enclosed, E, const D: usize> IntoIterator for &'a EventQueue<P, E, D> {
     type Item = (EventKey, &'a P, u64, &'a E);
     type IntoIter = Iter<'a, P, E>;
 
@@ -645,13 +708,20 @@ mod tests {
     }
 
     /// Checks the heap property and the slot table against each other.
-    fn check_invariants<P: Ord + Clone, E, const D: usize>(q: &EventQueue<P, E, D>) {
-        for (pos, &slot) in q.heap.iter().enumerate() {
+    fn check_invariants<P: Ord + Clone + Enclosed, E, const D: usize>(q: &EventQueue<P, E, D>) {
+        for (pos, &node) in q.heap.iter().enumerate() {
             if pos > 0 {
-                assert!(!q.precedes(slot, q.heap[(pos - 1) / D]), "heap order");
+                assert!(!q.precedes(node, q.heap[(pos - 1) / D]), "heap order");
             }
+            let slot = node.slot;
             assert_eq!(q.slots[slot as usize].pos as usize, pos, "slot position");
-            assert!(q.slots[slot as usize].entry.is_some());
+            let entry = q.slots[slot as usize].entry.as_ref().expect("a live slot");
+            assert_eq!(
+                entry.priority.enclosure().0.to_bits(),
+                node.lo.to_bits(),
+                "the node's enclosure is its priority's"
+            );
+            assert_eq!(entry.priority.enclosure().1.to_bits(), node.hi.to_bits());
         }
         let occupied = q.slots.iter().filter(|s| s.entry.is_some()).count();
         assert_eq!(occupied, q.heap.len());
@@ -671,7 +741,9 @@ mod tests {
         }
     }
 
-    fn drain<P: Ord + Clone, E, const D: usize>(q: &mut EventQueue<P, E, D>) -> Vec<(P, E)> {
+    fn drain<P: Ord + Clone + Enclosed, E, const D: usize>(
+        q: &mut EventQueue<P, E, D>,
+    ) -> Vec<(P, E)> {
         std::iter::from_fn(|| q.pop().map(|(_, p, e)| (p, e))).collect()
     }
 
@@ -975,6 +1047,55 @@ mod tests {
             randomized::<4>(seed, 6000, 8);
             randomized::<4>(seed, 6000, 1 << 20);
             randomized::<8>(seed, 3000, 64);
+        }
+    }
+
+    /// A priority whose enclosure is wide and often overlaps others (a
+    /// radius of 0 to 64 that depends on the value only), or NaN: the
+    /// heap then decides some comparisons by the enclosures and the rest by
+    /// `Ord`, which must give the same order.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+    struct Blurred(u64);
+
+    impl Enclosed for Blurred {
+        fn enclosure(&self) -> (f64, f64) {
+            let r = (self.0.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 58) as f64;
+            if self.0 % 97 == 0 {
+                return (f64::NAN, f64::NAN);
+            }
+            (self.0 as f64 - r, self.0 as f64 + r)
+        }
+    }
+
+    #[test]
+    fn enclosures_that_overlap_give_the_order_of_the_priorities() {
+        for seed in 1..=4 {
+            let mut rng = XorShift::new(seed);
+            let mut q: EventQueue<Blurred, usize> = EventQueue::new();
+            // (key, priority, tie, seq)
+            let mut live: Vec<(EventKey, u64, u64, usize)> = Vec::new();
+            for seq in 0..3000 {
+                let p = 1000 + rng.below(400);
+                let tie = rng.below(2);
+                live.push((q.schedule(Blurred(p), tie, seq), p, tie, seq));
+                if rng.below(4) == 0 {
+                    let i = rng.below(live.len() as u64) as usize;
+                    let p = 1000 + rng.below(400);
+                    assert!(q.reschedule(live[i].0, Blurred(p)));
+                    live[i].1 = p;
+                }
+                if rng.below(5) == 0 {
+                    let i = rng.below(live.len() as u64) as usize;
+                    let (k, _, _, seq) = live.swap_remove(i);
+                    assert_eq!(q.cancel(k), Some(seq));
+                }
+            }
+            check_invariants(&q);
+            live.sort_by_key(|&(_, p, tie, seq)| (p, tie, seq));
+            for &(k, p, _, seq) in &live {
+                assert_eq!(q.pop(), Some((k, Blurred(p), seq)));
+            }
+            assert_eq!(q.pop(), None);
         }
     }
 
