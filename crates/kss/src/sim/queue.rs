@@ -46,9 +46,10 @@
 //!   (`priority`, `tie`, `seq`, payload) if the slot is occupied, and either
 //!   the event's current heap position (kept up to date on every move) or the
 //!   next free slot;
-//! * the heap array holds the slot indices with an `f64` enclosure of each
-//!   event's priority ([`Enclosed`]; 24-byte nodes), so sifting moves small
-//!   values with a hole (no swaps) and never moves priorities or payloads,
+//! * the heap array holds the slot indices with an enclosure of each event's
+//!   priority ([`Enclosed`], widened to `f32` bounds: 12-byte nodes), so
+//!   sifting moves small values with a hole (no swaps) and never moves
+//!   priorities or payloads,
 //!   which matters because exact times are large (the crate's exact time
 //!   type, `num::Time`, is 72 bytes); and a comparison whose enclosures are
 //!   apart reads the heap array only, not the two slots (most comparisons:
@@ -90,19 +91,20 @@
 //! reschedule or cancel and schedule again (new times uniform in
 //! `now + [1, 2^20]`). Criterion's median time per processed event
 //! (`cargo bench -p kss --bench queue`, 2026-11-30 on the 2-core development
-//! machine, which is noisy: ±10 % from run to run); the rows without
-//! enclosures are the same heap holding slot indices only (every comparison
-//! reads both slots), run by the same bench at commit ebcc722 minutes apart:
+//! machine, which is noisy: the unchanged rows moved by up to 15 % between
+//! two runs); the rows without enclosures are the same heap holding slot
+//! indices only (every comparison reads both slots), run by the same bench at
+//! commit ebcc722 minutes before the others:
 //!
 //! ```text
 //!                                      heap comparisons  ns/event
 //!                                      per event         u64 time   128-byte time
-//! EventQueue, D = 4 (default)              34.8             430        508
-//! EventQueue, D = 2                        30.2             519        616
+//! EventQueue, D = 4 (default)              34.8             413        477
+//! EventQueue, D = 2                        30.2             470        506
 //! EventQueue without enclosures, D = 4     34.8             500        640
 //! EventQueue without enclosures, D = 2     30.2             495        603
-//! std BinaryHeap, lazy delete              82.7            1001       2249
-//! keyed_priority_queue 0.4                 41.0             621       1280
+//! std BinaryHeap, lazy delete              82.7             864       2223
+//! keyed_priority_queue 0.4                 41.0             618       1152
 //! ```
 //!
 //! The 128-byte time is a stand-in for the exact time type: compared by a
@@ -110,10 +112,11 @@
 //! atomic statistics counter bumped per comparison. The lazy heap holds about
 //! 31,000 entries for the 10,000 live events. In the kinetic structure
 //! (exact 72-byte times, about 6,000 live certificates on the gasmix of
-//! `kss-bench`) a whole run without the enclosures takes 0.8 % more
-//! instructions (callgrind: 0.8626e9 against 0.8558e9 on the gasmix,
-//! 1.3765e9 against 1.3645e9 on the 1000 16-gons to t = 0.6, both with
-//! `D = 2`), and `D = 2` 0.05 % more than `D = 4`.
+//! `kss-bench`) a whole run without the enclosures takes 0.7 % more
+//! instructions than with them (callgrind: 0.8626e9 against 0.8565e9 on the
+//! gasmix, 1.3765e9 against 1.3662e9 on the 1000 16-gons to t = 0.6), and
+//! `f64` bounds (24-byte nodes) 0.1 to 0.2 % fewer than `f32` ones, for
+//! twice the heap array (0.19 MB more peak heap on those 16-gons).
 //!
 //! # Current time and statistics
 //!
@@ -174,18 +177,44 @@ impl Enclosed for crate::num::Time {
     }
 }
 
-/// A heap entry: the slot of an event and its priority's enclosure.
+/// A heap entry: the slot of an event and its priority's enclosure,
+/// widened to `f32` bounds (12 bytes a node; the enclosures of distinct
+/// failure times are still apart nearly always).
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    lo: f64,
-    hi: f64,
+    lo: f32,
+    hi: f32,
     slot: u32,
 }
 
 impl Node {
     fn of<P: Enclosed>(slot: u32, priority: &P) -> Node {
         let (lo, hi) = priority.enclosure();
-        Node { lo, hi, slot }
+        Node {
+            lo: f32_down(lo),
+            hi: f32_up(hi),
+            slot,
+        }
+    }
+}
+
+/// The largest `f32` at most `x` (NaN for NaN).
+fn f32_down(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) > x {
+        y.next_down()
+    } else {
+        y
+    }
+}
+
+/// The smallest `f32` at least `x` (NaN for NaN).
+fn f32_up(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) < x {
+        y.next_up()
+    } else {
+        y
     }
 }
 
@@ -335,7 +364,7 @@ impl<P: Ord + Clone + Enclosed, E, const D: usize> EventQueue<P, E, D> {
     pub fn schedule(&mut self, priority: P, tie: u64, payload: E) -> EventKey {
         let seq = self.next_seq;
         self.next_seq += 1;
-        let (lo, hi) = priority.enclosure();
+        let node = Node::of(0, &priority);
         let slot = self.alloc_slot(Entry {
             priority,
             tie,
@@ -343,7 +372,7 @@ impl<P: Ord + Clone + Enclosed, E, const D: usize> EventQueue<P, E, D> {
             payload,
         });
         let pos = self.heap.len();
-        self.heap.push(Node { lo, hi, slot });
+        self.heap.push(Node { slot, ..node });
         self.sift_up(pos);
         self.stats.scheduled += 1;
         self.stats.max_len = self.stats.max_len.max(self.heap.len());
@@ -716,12 +745,12 @@ mod tests {
             let slot = node.slot;
             assert_eq!(q.slots[slot as usize].pos as usize, pos, "slot position");
             let entry = q.slots[slot as usize].entry.as_ref().expect("a live slot");
+            let (lo, hi) = entry.priority.enclosure();
             assert_eq!(
-                entry.priority.enclosure().0.to_bits(),
-                node.lo.to_bits(),
+                (f32_down(lo).to_bits(), f32_up(hi).to_bits()),
+                (node.lo.to_bits(), node.hi.to_bits()),
                 "the node's enclosure is its priority's"
             );
-            assert_eq!(entry.priority.enclosure().1.to_bits(), node.hi.to_bits());
         }
         let occupied = q.slots.iter().filter(|s| s.entry.is_some()).count();
         assert_eq!(occupied, q.heap.len());
@@ -1048,6 +1077,46 @@ mod tests {
             randomized::<4>(seed, 6000, 1 << 20);
             randomized::<8>(seed, 3000, 64);
         }
+    }
+
+    #[test]
+    fn f32_bounds_are_the_nearest_outward() {
+        let mut rng = XorShift::new(7);
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            -0.1,
+            1e-310,
+            -1e-310,
+            1e300,
+            -1e300,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::from(f32::MAX),
+            16_777_217.0,
+        ];
+        xs.extend(
+            (0..2000)
+                .map(|_| f64::from_bits(rng.next()))
+                .filter(|x| !x.is_nan()),
+        );
+        for x in xs {
+            let (d, u) = (f32_down(x), f32_up(x));
+            assert!(f64::from(d) <= x && x <= f64::from(u), "{x:e}: {d:e} {u:e}");
+            assert!(
+                d == f32::INFINITY || f64::from(d.next_up()) > x,
+                "{x:e}: {d:e} not the largest"
+            );
+            assert!(
+                u == f32::NEG_INFINITY || f64::from(u.next_down()) < x,
+                "{x:e}: {u:e} not the smallest"
+            );
+        }
+        assert!(f32_down(f64::NAN).is_nan() && f32_up(f64::NAN).is_nan());
     }
 
     /// A priority whose enclosure is wide and often overlaps others (a
