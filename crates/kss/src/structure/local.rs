@@ -470,57 +470,57 @@ pub(crate) fn dedup_sorted<T: PartialEq + Copy, const N: usize>(xs: &mut ArrayVe
 /// The junctions of `faces` (a corridor's, [`Kss::faces_with`]), face by
 /// face (`None` for a face with fewer than three vertices).
 fn junctions_of(world: &Geo, faces: &ArrayVec<Face, 2>) -> ArrayVec<Option<FaceJunctions>, 2> {
-    faces
-        .iter()
-        .map(|&f| {
-            if f.p[0].len == 0 && f.p[1].len == 0 {
-                return None;
-            }
-            let last = |p: Piece| p.end;
-            let mut out = FaceJunctions::new();
-            for x in 0..2 {
-                let p = f.p[x];
-                let (prev_piece, next_piece) = (f.p[1 - x], f.p[1 - x]);
-                let (e_in, e_out) = (f.e[1 - x], f.e[x]);
-                let before = last(prev_piece);
-                let after = next_piece.start;
-                if p.len == 0 {
-                    out.push(Junction {
-                        prev: before,
-                        v: p.start,
-                        next: after,
-                        in_edge: e_in,
-                        out_edge: e_out,
-                    });
-                } else {
-                    let l = last(p);
-                    out.push(Junction {
-                        prev: before,
-                        v: p.start,
-                        next: step_cw(world, p.start, 1),
-                        in_edge: e_in,
-                        out_edge: EdgeRef::Chain,
-                    });
-                    out.push(Junction {
-                        prev: step_ccw(world, l),
-                        v: l,
-                        next: after,
-                        in_edge: EdgeRef::Chain,
-                        out_edge: e_out,
-                    });
-                }
-            }
-            Some(out)
-        })
-        .collect()
+    faces.iter().map(|f| face_junctions(world, f)).collect()
+}
+
+/// The junctions of face `f` ([`junctions_of`]).
+fn face_junctions(world: &Geo, f: &Face) -> Option<FaceJunctions> {
+    if f.p[0].len == 0 && f.p[1].len == 0 {
+        return None;
+    }
+    let last = |p: Piece| p.end;
+    let mut out = FaceJunctions::new();
+    for x in 0..2 {
+        let p = f.p[x];
+        let (prev_piece, next_piece) = (f.p[1 - x], f.p[1 - x]);
+        let (e_in, e_out) = (f.e[1 - x], f.e[x]);
+        let before = last(prev_piece);
+        let after = next_piece.start;
+        if p.len == 0 {
+            out.push(Junction {
+                prev: before,
+                v: p.start,
+                next: after,
+                in_edge: e_in,
+                out_edge: e_out,
+            });
+        } else {
+            let l = last(p);
+            out.push(Junction {
+                prev: before,
+                v: p.start,
+                next: step_cw(world, p.start, 1),
+                in_edge: e_in,
+                out_edge: EdgeRef::Chain,
+            });
+            out.push(Junction {
+                prev: step_ccw(world, l),
+                v: l,
+                next: after,
+                in_edge: EdgeRef::Chain,
+                out_edge: e_out,
+            });
+        }
+    }
+    Some(out)
 }
 
 /// [`junctions_of`] as corners ([`Kss::corners_with`]).
 fn corners_of(world: &Geo, faces: &ArrayVec<Face, 2>) -> ArrayVec<Option<ArrayVec<Corner, 4>>, 2> {
-    junctions_of(world, faces)
-        .into_iter()
-        .map(|face| {
-            face.map(|js| {
+    faces
+        .iter()
+        .map(|f| {
+            face_junctions(world, f).map(|js| {
                 let n = js.len();
                 // the junction leaving each bridge of length zero
                 let merged: ArrayVec<bool, 4> = (0..n)
@@ -792,7 +792,9 @@ impl Kss {
         };
         // (the points placed at `t` so far, shared by the junctions)
         let mut memo = PointMemo::<16>::default();
-        for (fi, face) in corners_of(world, &shapes).into_iter().enumerate() {
+        // (read in place: a face's corners are a few hundred bytes)
+        let corners = corners_of(world, &shapes);
+        for (fi, face) in corners.iter().enumerate() {
             if alike {
                 let f = shapes[fi];
                 let cycle: Vec<Att> =
@@ -815,7 +817,7 @@ impl Kss {
             };
             let mut convex = 0;
             let mut all_zero = true;
-            for (j, rest) in &js {
+            for (j, rest) in js {
                 // a face with two places (a resting corner with a single
                 // vertex opposite) is no pseudo-triangle
                 if rest.is_some() && j.prev == j.next {
@@ -856,7 +858,11 @@ impl Kss {
                 // (with `clear`, the sign is the turn on `side` of `t`:
                 // the junction's points are placed once for the filter of
                 // that turn and for its clearance)
-                let placed = clear.then(|| Placed::of_with(world, j, t, &mut memo));
+                let placed = if clear {
+                    Some(Placed::of_with(world, j, t, &mut memo))
+                } else {
+                    None
+                };
                 let s = match placed.as_ref() {
                     Some(placed) => {
                         let s = placed.turn_on(world, t, side);
