@@ -112,9 +112,10 @@
 //! atomic statistics counter bumped per comparison. The lazy heap holds about
 //! 31,000 entries for the 10,000 live events. In the kinetic structure
 //! (exact 72-byte times, about 6,000 live certificates on the gasmix of
-//! `kss-bench`) a whole run without the enclosures takes 0.7 % more
-//! instructions than with them (callgrind: 0.8626e9 against 0.8565e9 on the
-//! gasmix, 1.3765e9 against 1.3662e9 on the 1000 16-gons to t = 0.6), and
+//! `kss-bench`) a whole run with slot indices alone and `D = 2` takes 0.7 %
+//! more instructions than this layout (callgrind: 0.8626e9 against 0.8565e9
+//! on the gasmix, 1.3765e9 against 1.3662e9 on the 1000 16-gons to
+//! t = 0.6; the arity accounts for 0.05 % of it), and
 //! `f64` bounds (24-byte nodes) 0.1 to 0.2 % fewer than `f32` ones, for
 //! twice the heap array (0.19 MB more peak heap on those 16-gons).
 //!
@@ -144,7 +145,7 @@ pub const DEFAULT_ARITY: usize = 4;
 const NONE: u32 = u32::MAX;
 
 /// A priority with a cheap enclosure of its value, for the heap to compare
-/// without reading the priority itself (module docs, "Layout").
+/// without reading the priority itself (module docs, "Design").
 ///
 /// The enclosure must agree with [`Ord`]: whenever `a.enclosure().1 <
 /// b.enclosure().0`, `a < b`. A NaN bound never decides (every comparison
