@@ -189,6 +189,7 @@ struct Node {
 }
 
 impl Node {
+    /// The node of slot `slot`, whose event has priority `priority`.
     fn of<P: Enclosed>(slot: u32, priority: &P) -> Node {
         let (lo, hi) = priority.enclosure();
         Node {
@@ -365,7 +366,6 @@ impl<P: Ord + Clone + Enclosed, E, const D: usize> EventQueue<P, E, D> {
     pub fn schedule(&mut self, priority: P, tie: u64, payload: E) -> EventKey {
         let seq = self.next_seq;
         self.next_seq += 1;
-        let node = Node::of(0, &priority);
         let slot = self.alloc_slot(Entry {
             priority,
             tie,
@@ -373,7 +373,7 @@ impl<P: Ord + Clone + Enclosed, E, const D: usize> EventQueue<P, E, D> {
             payload,
         });
         let pos = self.heap.len();
-        self.heap.push(Node { slot, ..node });
+        self.heap.push(Node::of(slot, &self.entry(slot).priority));
         self.sift_up(pos);
         self.stats.scheduled += 1;
         self.stats.max_len = self.stats.max_len.max(self.heap.len());
