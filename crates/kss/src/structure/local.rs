@@ -323,6 +323,9 @@ fn junction_clear(world: &Geo, j: &Junction, s: Sign, t: &Time, side: Side) -> b
 struct Placed {
     pts: [Att; 5],
     mids: [Option<crate::geom::MidRad>; 5],
+    /// Whether all five points are placed (else the vertex's two polygon
+    /// neighbours are not: [`Placed::of_turn_with`]).
+    full: bool,
 }
 
 impl Placed {
@@ -347,6 +350,38 @@ impl Placed {
         Placed {
             pts,
             mids: pts.map(&mut place),
+            full: true,
+        }
+    }
+
+    /// [`Placed::of_with`] with only the junction's three points placed,
+    /// for its turn ([`Placed::complete`] places the vertex's polygon
+    /// neighbours, which its clearance reads).
+    fn of_turn_with<const N: usize>(
+        world: &Geo,
+        j: &Junction,
+        t: &Time,
+        memo: &mut PointMemo<N>,
+    ) -> Placed {
+        let v = j.v;
+        let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
+        let tiv = t.interval();
+        let mut place = |a: Att| memo.place(world, a, tiv);
+        Placed {
+            pts: [v, up, down, j.prev, j.next],
+            mids: [place(v), None, None, place(j.prev), place(j.next)],
+            full: false,
+        }
+    }
+
+    /// Place the points [`Placed::of_turn_with`] left out.
+    fn complete<const N: usize>(&mut self, world: &Geo, t: &Time, memo: &mut PointMemo<N>) {
+        if !self.full {
+            let tiv = t.interval();
+            for x in [1, 2] {
+                self.mids[x] = memo.place(world, self.pts[x], tiv);
+            }
+            self.full = true;
         }
     }
 
@@ -388,7 +423,7 @@ fn junction_clear_placed(
     // each of the five points enclosed once (midpoint and radius) for the
     // up to eight turns below; the interval filter and the exact turn only
     // where that does not decide
-    let Placed { pts, mids } = placed;
+    let Placed { pts, mids, .. } = placed;
     // (the points by their place in `pts`: the vertex, its two polygon
     // neighbours, the junction's two other points)
     const V: usize = 0;
@@ -858,10 +893,18 @@ impl Kss {
                 // (with `clear`, the sign is the turn on `side` of `t`:
                 // the junction's points are placed once for the filter of
                 // that turn and for its clearance)
-                let placed = if clear {
-                    Some(Placed::of_with(world, j, t, &mut memo))
-                } else {
+                // (in the check of the corridor as the operation left it,
+                // at an instant at which nothing else fails, the clearance
+                // of a junction that does not turn straight is not tested:
+                // `Kss::trust_op`; its vertex's neighbours are placed only
+                // where it is)
+                let trust = known.is_some() && self.trust_op.get();
+                let mut placed = if !clear {
                     None
+                } else if trust {
+                    Some(Placed::of_turn_with(world, j, t, &mut memo))
+                } else {
+                    Some(Placed::of_with(world, j, t, &mut memo))
                 };
                 let s = match placed.as_ref() {
                     Some(placed) => {
@@ -898,9 +941,23 @@ impl Kss {
                 // wraps around a vertex); not checked when some signs are
                 // held against the motion (the geometry just after the
                 // instant is the failing one until those are handled)
-                if let Some(placed) = &placed {
-                    if !junction_clear_placed(world, j, s, (t, side), placed) {
-                        return false;
+                // (not for a junction the operation made, in the check of
+                // the corridor as the operation left it at an instant at
+                // which nothing else fails: `Kss::trust_op`)
+                if let Some(placed) = placed.as_mut() {
+                    if trust && s != Sign::Zero {
+                        debug_assert!(
+                            {
+                                placed.complete(world, t, &mut memo);
+                                junction_clear_placed(world, j, s, (t, side), placed)
+                            },
+                            "a junction {j:?} that an operation made is not clear of its polygon"
+                        );
+                    } else {
+                        placed.complete(world, t, &mut memo);
+                        if !junction_clear_placed(world, j, s, (t, side), placed) {
+                            return false;
+                        }
                     }
                 }
                 match s {
@@ -1335,7 +1392,15 @@ impl Kss {
             let c = &self.corrs[ki];
             (c.len_a, c.len_b, c.mid)
         };
-        if self.faces_valid_on(world, k, mid, t, side) {
+        // (the corridor as the operation left it, between two polygons
+        // taking part as they are: see `Kss::trust_op`)
+        let real = |o: Obj| matches!(o, Obj::Body(b) if world.shapes.approx(b).is_none());
+        let c = &self.corrs[ki];
+        self.trust_op
+            .set(self.known.is_some() && real(c.a) && real(c.b));
+        let kept = self.faces_valid_on(world, k, mid, t, side);
+        self.trust_op.set(false);
+        if kept {
             return Some(0);
         }
         if len_a > 0 && len_b > 0 && self.four_corners(world, k, t, side) {

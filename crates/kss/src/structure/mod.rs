@@ -234,6 +234,19 @@ pub struct Kss {
     /// depend on its three points and its vertex's polygon alone), without
     /// a test ([`Kss::faces_valid_on`]).
     pub(crate) known: Option<(crate::num::Time, local::Certs)>,
+    /// Set by [`Kss::decompose`] around its first check, the one of the
+    /// corridor as the operation left it, while [`Kss::known`] is set and
+    /// both of the corridor's bodies take part as they are (no outer
+    /// approximation): at an instant at which nothing else fails, the
+    /// operation's result is then a pseudo-triangulation (the paper's
+    /// local update), so that check reads the signs of the junctions the
+    /// operation made and not their clearance (debug builds test the
+    /// clearance all the same). Every other candidate (a walk's, a
+    /// repair's) is tested whole. (Between approximations the operation's
+    /// result can wrap a junction around its polygon, where a refinement
+    /// changed the chain: the differential tests over the degenerate
+    /// families with every polygon approximated find such junctions.)
+    pub(crate) trust_op: std::cell::Cell<bool>,
 }
 
 /// What a middle-bridge walk of one normalization depends on: the
