@@ -476,7 +476,19 @@ impl Kss {
         p: [Att; 3],
         middle: Att,
     ) -> Result<Outcome, StructureError> {
-        let (e, from, to, onto) = self.junction_plan(world, k, p, middle)?;
+        let plan = self.junction_plan(world, k, p, middle)?;
+        self.slide_planned(world, k, plan)
+    }
+
+    /// The operation for the failure of a junction of corridor `k` (not an
+    /// ω-corridor) whose [`Kss::junction_plan`] is `plan`, read before
+    /// anything changed: what [`Kss::process`] does for it.
+    pub fn slide_planned(
+        &mut self,
+        world: &Geo,
+        k: CorrId,
+        (e, from, to, onto): (EdgeRef, Att, Att, bool),
+    ) -> Result<Outcome, StructureError> {
         self.slide_bridge(world, k, e, from, to, onto)
     }
 

@@ -640,17 +640,24 @@ impl Kinetic {
                 // operations assume its end triangles, and two of its
                 // junctions can otherwise hand an edge back and forth
                 // across the degenerate triangle for ever
-                let moved_tri = match owner {
-                    Owner::Corr(k) if self.kss.corrs[k.0 as usize].b != Obj::Omega => {
-                        let c = &self.kss.corrs[k.0 as usize];
-                        match self.kss.junction_plan(world, k, p, middle) {
-                            Ok((crate::structure::local::EdgeRef::EndS, _, _, true)) => Some(c.s.0),
-                            Ok((crate::structure::local::EdgeRef::EndT, _, _, true)) => Some(c.t.0),
-                            _ => None,
-                        }
-                    }
+                // (a junction's plan, read once: for this test and for the
+                // operation below)
+                let plan = match owner {
+                    Owner::Corr(k) if self.kss.corrs[k.0 as usize].b != Obj::Omega => self
+                        .kss
+                        .junction_plan(world, k, p, middle)
+                        .ok()
+                        .map(|plan| (k, plan)),
                     _ => None,
                 };
+                let moved_tri = plan.and_then(|(k, plan)| {
+                    let c = &self.kss.corrs[k.0 as usize];
+                    match plan {
+                        (crate::structure::local::EdgeRef::EndS, _, _, true) => Some(c.s.0),
+                        (crate::structure::local::EdgeRef::EndT, _, _, true) => Some(c.t.0),
+                        _ => None,
+                    }
+                });
                 // (only the triangle whose corner the operation would move)
                 let collapsing = moved_tri.and_then(|tri| {
                     let q = self.kss.triangle_certs(tri).first().map(|c| c.p)?;
@@ -680,7 +687,10 @@ impl Kinetic {
                     self.reschedule(world, &p, &t);
                     return self.handle(world, q, t, contacts, collides);
                 }
-                let out = self.kss.process(world, owner, p, middle, &t)?;
+                let out = match plan {
+                    Some((k, plan)) => self.kss.slide_planned(world, k, plan)?,
+                    None => self.kss.process(world, owner, p, middle, &t)?,
+                };
                 self.instant.handling = Some(p);
                 self.kss.handling = Some(p);
                 let applied = self.apply(world, out, &t);
