@@ -867,6 +867,7 @@ fn stats_count_the_structures_work_by_path() {
             "failing_known",
             "normalizations",
             "walks",
+            "trusted_checks",
         ] {
             n(k);
         }

@@ -35,6 +35,10 @@ pub(crate) enum Counter {
     Normalizations,
     /// Walks of a middle bridge along a corridor's chains.
     Walks,
+    /// Corridors taken as an operation left them on the signs of the
+    /// junctions it made, without their clearance
+    /// ([`super::Kss::trust_op`]).
+    TrustedChecks,
     /// Candidate updates of a pop checked for validity
     /// ([`super::pop`]), repairs by triangle collapses included.
     PopCandidates,
@@ -48,7 +52,7 @@ pub(crate) enum Counter {
 }
 
 /// The names of the counters, in the order of the counters' indices.
-pub const NAMES: [&str; 13] = [
+pub const NAMES: [&str; 14] = [
     "turns_filtered",
     "turns_undecided",
     "turns_exact",
@@ -59,13 +63,14 @@ pub const NAMES: [&str; 13] = [
     "failing_known",
     "normalizations",
     "walks",
+    "trusted_checks",
     "pop_candidates",
     "pop_owners",
     "set_removals",
 ];
 
 thread_local! {
-    static COUNTS: [Cell<u64>; 13] = const { [const { Cell::new(0) }; 13] };
+    static COUNTS: [Cell<u64>; 14] = const { [const { Cell::new(0) }; 14] };
 }
 
 /// Count one `c`.
@@ -78,6 +83,6 @@ pub(crate) fn bump(c: Counter) {
 }
 
 /// The counts of this thread so far, in the order of [`NAMES`].
-pub fn snapshot() -> [u64; 13] {
+pub fn snapshot() -> [u64; 14] {
     COUNTS.with(|x| x.each_ref().map(Cell::get))
 }

@@ -1399,6 +1399,9 @@ impl Kss {
         self.trust_op
             .set(self.known.is_some() && real(c.a) && real(c.b));
         let kept = self.faces_valid_on(world, k, mid, t, side);
+        if kept && self.trust_op.get() {
+            super::counters::bump(super::counters::Counter::TrustedChecks);
+        }
         self.trust_op.set(false);
         if kept {
             return Some(0);
