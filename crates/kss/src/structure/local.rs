@@ -1392,12 +1392,8 @@ impl Kss {
             let c = &self.corrs[ki];
             (c.len_a, c.len_b, c.mid)
         };
-        // (the corridor as the operation left it, between two polygons
-        // taking part as they are: see `Kss::trust_op`)
-        let real = |o: Obj| matches!(o, Obj::Body(b) if world.shapes.approx(b).is_none());
-        let c = &self.corrs[ki];
-        self.trust_op
-            .set(self.known.is_some() && real(c.a) && real(c.b));
+        // (the corridor as the operation left it: see `Kss::trust_op`)
+        self.trust_op.set(self.op_alone && self.known.is_some());
         let kept = self.faces_valid_on(world, k, mid, t, side);
         if kept && self.trust_op.get() {
             super::counters::bump(super::counters::Counter::TrustedChecks);

@@ -235,18 +235,22 @@ pub struct Kss {
     /// a test ([`Kss::faces_valid_on`]).
     pub(crate) known: Option<(crate::num::Time, local::Certs)>,
     /// Set by [`Kss::decompose`] around its first check, the one of the
-    /// corridor as the operation left it, while [`Kss::known`] is set and
-    /// both of the corridor's bodies take part as they are (no outer
-    /// approximation): at an instant at which nothing else fails, the
-    /// operation's result is then a pseudo-triangulation (the paper's
-    /// local update), so that check reads the signs of the junctions the
+    /// corridor as the operation left it, while [`Kss::known`] and
+    /// [`Kss::op_alone`] are set: for the only failure of an instant, the
+    /// operation's result is a pseudo-triangulation (the paper's local
+    /// update), so that check reads the signs of the junctions the
     /// operation made and not their clearance (debug builds test the
     /// clearance all the same). Every other candidate (a walk's, a
-    /// repair's) is tested whole. (Between approximations the operation's
-    /// result can wrap a junction around its polygon, where a refinement
-    /// changed the chain: the differential tests over the degenerate
-    /// families with every polygon approximated find such junctions.)
+    /// repair's, a removal's) is tested whole. (After other changes at the
+    /// same instant the operation's result can wrap a face around a
+    /// vertex: the differential tests over the grazing family find such
+    /// faces.)
     pub(crate) trust_op: std::cell::Cell<bool>,
+    /// Set by the kinetic layer around the normalizations that follow an
+    /// operation that is the first change of the structure at its instant
+    /// (no operation, pop, motion change, removal, insertion, repair or
+    /// construction before it there).
+    pub(crate) op_alone: bool,
 }
 
 /// What a middle-bridge walk of one normalization depends on: the

@@ -492,6 +492,9 @@ impl Kinetic {
         o: Owner,
         now: &Time,
     ) -> Result<(), StructureError> {
+        if !(self.instant.changed_at.as_ref()).is_some_and(|c| c.is_known_same(now)) {
+            self.instant.changed_at = Some(now.clone());
+        }
         let fresh = match o {
             Owner::Tri(t) => self.kss.triangle_certs(t),
             Owner::Corr(k) => self.kss.corridor_certs(world, k, now),

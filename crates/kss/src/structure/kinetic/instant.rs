@@ -98,4 +98,10 @@ pub(super) struct InstantState {
     pub(super) recent: VecDeque<[Att; 3]>,
     /// The instant of `recent`.
     pub(super) recent_at: Option<Time>,
+    /// The last instant at which an owner's certificates were refreshed
+    /// (after an operation, a pop, a removal, an insertion, a repair or the
+    /// construction): an operation at another instant is the first change
+    /// of the structure at its own, which [`crate::structure::Kss::trust_op`]
+    /// asks.
+    pub(super) changed_at: Option<Time>,
 }

@@ -388,6 +388,10 @@ impl Kinetic {
         fresh.tally = std::mem::take(&mut self.tally);
         // the touches of this instant still need their pops afterwards
         fresh.instant.settled = std::mem::take(&mut self.instant.settled);
+        // (a rebuild changes the structure at this instant)
+        if fresh.instant.changed_at.is_none() {
+            fresh.instant.changed_at = self.instant.changed_at.take();
+        }
         fresh.max_active = fresh.max_active.max(self.max_active);
         *self = fresh;
     }

@@ -34,6 +34,8 @@ impl Kinetic {
         // (the motions changed: operations before this are no cycle of
         // operations after it)
         self.instant.recent.clear();
+        // (nor is an operation after it the first change at this instant)
+        self.instant.changed_at = Some(now.clone());
         for &_b in bodies {
             trace!(
                 "motion of {_b:?} at {}: {:?}",

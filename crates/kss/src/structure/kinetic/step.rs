@@ -750,9 +750,18 @@ impl Kinetic {
         let mut corrs = out.corrs;
         corrs.sort();
         crate::structure::local::dedup_sorted(&mut corrs);
+        // (the first change of the structure at this instant: see
+        // `Kss::trust_op`)
+        let first = self
+            .instant
+            .changed_at
+            .as_ref()
+            .is_none_or(|c| !c.is_known_same(t) && c != t);
         for &k in &corrs {
             self.kss.known = self.known_junctions(k, t);
+            self.kss.op_alone = first;
             let steps = self.kss.normalize(world, k, t, None);
+            self.kss.op_alone = false;
             self.kss.known = None;
             if steps? > 0 {
                 self.tally.searches += 1;
