@@ -23,7 +23,12 @@
 //! corridor that another corridor's operation decomposes by the motions
 //! from before a collision response that then changes them; two points of
 //! the hull that meet at a collision response which takes them off their
-//! common line; settled contacts repaired by a local retriangulation (a
+//! common line; a collision response at an instant whose structure waits
+//! for a rebuild (three pairs of the `simultaneous` family touching at
+//! once), where the corridors' resting corners and straight junctions are
+//! not read (`resting_corners_not_read_while_a_rebuild_waits`: a debug
+//! build asserted there on a chain whose length lagged behind its ends);
+//! settled contacts repaired by a local retriangulation (a
 //! vertex on another polygon's edge at every instant tried, a region grown
 //! by two polygons whose corridor is degenerate at the same instant or past
 //! a boundary bridge that the region's polygons cross, a repair after the

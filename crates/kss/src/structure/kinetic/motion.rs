@@ -154,12 +154,23 @@ impl Kinetic {
                 _ => world.orient_filtered(p[0], p[1], p[2], tiv).is_none(),
             })
             .collect();
-        let reshape = self.straight_now(world, &touched, &undecided, now);
+        // (neither is read when the structure is about to be rebuilt: it
+        // may not be whole then, a corridor's chain lengths behind its ends)
+        let whole = self.instant.broken.is_none();
+        let reshape = if whole {
+            self.straight_now(world, &touched, &undecided, now)
+        } else {
+            BTreeSet::new()
+        };
         // A bridge (an end or the middle one) between two vertices that rest on each other has
         // length zero, its corner the two ends' together; under the new
         // motions they may part, and the corridor's certificates are then
         // its two junctions again.
-        let resting = self.resting_now(world, &ids, now);
+        let resting = if whole {
+            self.resting_now(world, &ids, now)
+        } else {
+            BTreeSet::new()
+        };
         #[cfg(feature = "trace")]
         if std::env::var_os("KSS_DUMP").is_some() {
             eprintln!("resting at {}: {resting:?}", now.to_f64());
