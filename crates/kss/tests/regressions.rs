@@ -28,6 +28,11 @@
 //! once), where the corridors' resting corners and straight junctions are
 //! not read (`resting_corners_not_read_while_a_rebuild_waits`: a debug
 //! build asserted there on a chain whose length lagged behind its ends);
+//! a walk's candidate whose junction has the points of a certificate known
+//! to hold but another of them as its vertex, whose clearance the
+//! certificate does not show
+//! (`known_junction_at_another_vertex_of_its_certificate`, the `grazing`
+//! family with every polygon approximated);
 //! settled contacts repaired by a local retriangulation (a
 //! vertex on another polygon's edge at every instant tried, a region grown
 //! by two polygons whose corridor is degenerate at the same instant or past

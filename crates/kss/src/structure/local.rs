@@ -859,12 +859,15 @@ impl Kss {
                     return false;
                 }
                 // a junction whose certificate is known to hold just after
-                // `t` (`Kss::known`): its sign and its clearance as they
-                // were. Not at a point of the certificate being handled,
-                // which is zero at `t`: every turn of the clearance names the
-                // vertex (`junction_clear_placed`), and one may be the
-                // handled one (a polygon neighbour of the vertex crossing a
-                // bridge there), whose sign flips at `t`.
+                // `t` (`Kss::known`): its sign as it was. Not at a point of
+                // the certificate being handled, which is zero at `t`. Its
+                // clearance is tested all the same, but in the check of a
+                // corridor as an operation left it for the only failure of
+                // its instant (`Kss::trust_op`): a certificate names its
+                // three points, not which of them was the vertex of the
+                // junction it was made for (a triangular face's three
+                // corners share one), and the junction on the same points
+                // at another vertex was never tested.
                 if let Some(cert) = known
                     .filter(|_| rest.is_none())
                     .filter(|_| !self.handling.is_some_and(|h| h.contains(&j.v)))
@@ -875,10 +878,17 @@ impl Kss {
                         sign(j),
                         "a known junction {j:?} has another sign just after the instant"
                     );
-                    debug_assert!(
-                        junction_clear(world, j, cert.sign, t, side),
-                        "a known junction {j:?} is not clear just after the instant"
-                    );
+                    if self.trust_op.get() {
+                        debug_assert!(
+                            junction_clear(world, j, cert.sign, t, side),
+                            "a junction {j:?} of an operation's corridor is not clear of its polygon"
+                        );
+                    } else {
+                        let placed = Placed::of_with(world, j, t, &mut memo);
+                        if !junction_clear_placed(world, j, cert.sign, (t, side), &placed) {
+                            return false;
+                        }
+                    }
                     all_zero = false;
                     if let Some(cs) = certs.as_mut() {
                         if cs.try_push(cert).is_err() {
@@ -894,8 +904,8 @@ impl Kss {
                 // the junction's points are placed once for the filter of
                 // that turn and for its clearance)
                 // (in the check of the corridor as the operation left it,
-                // at an instant at which nothing else fails, the clearance
-                // of a junction that does not turn straight is not tested:
+                // for the only failure of its instant, the clearance of a
+                // junction that does not turn straight is not tested:
                 // `Kss::trust_op`; its vertex's neighbours are placed only
                 // where it is)
                 let trust = known.is_some() && self.trust_op.get();
@@ -942,8 +952,8 @@ impl Kss {
                 // held against the motion (the geometry just after the
                 // instant is the failing one until those are handled)
                 // (not for a junction the operation made, in the check of
-                // the corridor as the operation left it at an instant at
-                // which nothing else fails: `Kss::trust_op`)
+                // the corridor as the operation left it for the only
+                // failure of its instant: `Kss::trust_op`)
                 if let Some(placed) = placed.as_mut() {
                     if trust && s != Sign::Zero {
                         debug_assert!(

@@ -230,9 +230,11 @@ pub struct Kss {
     /// stored certificates of the corridor that are queued strictly after
     /// that instant, at an instant at which nothing else fails. A junction
     /// checked just after that instant whose triple is one of them has its
-    /// sign, and is clear of its polygon (as it was just before: both
-    /// depend on its three points and its vertex's polygon alone), without
-    /// a test ([`Kss::faces_valid_on`]).
+    /// sign without a test ([`Kss::faces_valid_on`]); its clearance is
+    /// tested (a certificate does not say which of its three points was
+    /// the vertex of the junction it was made for: a junction on the same
+    /// points at another vertex was never tested), but in the check that
+    /// [`Kss::trust_op`] marks.
     pub(crate) known: Option<(crate::num::Time, local::Certs)>,
     /// Set by [`Kss::decompose`] around its first check, the one of the
     /// corridor as the operation left it, while [`Kss::known`] and
