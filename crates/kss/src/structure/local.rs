@@ -342,16 +342,9 @@ impl Placed {
         t: &Time,
         memo: &mut PointMemo<N>,
     ) -> Placed {
-        let v = j.v;
-        let (up, down) = (step_ccw(world, v), step_cw(world, v, 1));
-        let pts = [v, up, down, j.prev, j.next];
-        let tiv = t.interval();
-        let mut place = |a: Att| memo.place(world, a, tiv);
-        Placed {
-            pts,
-            mids: pts.map(&mut place),
-            full: true,
-        }
+        let mut placed = Placed::of_turn_with(world, j, t, memo);
+        placed.complete(world, t, memo);
+        placed
     }
 
     /// [`Placed::of_with`] with only the junction's three points placed,
