@@ -48,29 +48,44 @@ impl Kinetic {
             Some((at, ps)) if at == *now => ps,
             _ => Vec::new(),
         };
-        // (in the order of `Att`, sorted as the points' words, which order
-        // them alike and compare faster; equal triples are one certificate)
+        // (each certificate once: from the list of the first of `bodies`
+        // that it names, in the lists' order, then the set-aside contacts
+        // that none of those lists holds; no sort)
         let room = bodies
             .iter()
             .filter_map(|b| self.by_body.get(b))
             .map(|set| set.len())
             .sum::<usize>()
             + waiting.len();
-        let mut words: Vec<([u64; 3], Option<CertId>)> = Vec::with_capacity(room);
-        words.extend(
-            bodies
-                .iter()
-                .filter_map(|b| self.by_body.get(b))
-                .flatten()
-                .filter_map(|&id| Some((self.certs.at(id)?.cert.p.map(Att::word), Some(id))))
-                .chain(waiting.iter().map(|p| (p.map(Att::word), self.certs.id(p)))),
-        );
-        words.sort_unstable_by_key(|&(w, _)| w);
-        words.dedup_by_key(|&mut (w, _)| w);
-        let touched: Vec<[Att; 3]> = words.iter().map(|(w, _)| w.map(Att::from_word)).collect();
-        // (`ids[i]`: the id of `touched[i]`'s certificate, `None` if it has
-        // none; nothing below drops one before the last loop)
-        let ids: Vec<Option<CertId>> = words.iter().map(|&(_, id)| id).collect();
+        let names = |p: &[Att; 3], among: &[BodyId]| {
+            p.iter()
+                .any(|a| matches!(a.obj, Obj::Body(x) if among.contains(&x)))
+        };
+        let mut touched: Vec<[Att; 3]> = Vec::with_capacity(room);
+        let mut ids: Vec<Option<CertId>> = Vec::with_capacity(room);
+        for (i, b) in bodies.iter().enumerate() {
+            if bodies[..i].contains(b) {
+                continue;
+            }
+            for &id in self.by_body.get(b).into_iter().flatten() {
+                let Some(s) = self.certs.at(id) else {
+                    continue;
+                };
+                if !names(&s.cert.p, &bodies[..i]) {
+                    touched.push(s.cert.p);
+                    ids.push(Some(id));
+                }
+            }
+        }
+        for (i, p) in waiting.iter().enumerate() {
+            let id = self.certs.id(p);
+            // (a stored certificate on one of `bodies` is in its list)
+            if (id.is_some() && names(p, bodies)) || waiting[..i].contains(p) {
+                continue;
+            }
+            touched.push(*p);
+            ids.push(id);
+        }
         // (a certificate that holds until a bridge of one of its bodies
         // ends is scheduled then, when that body's motion changes again;
         // `turning[i]`: the filter proved `touched[i]` a turn certificate
