@@ -55,8 +55,11 @@ pub(super) fn each_body(p: &[Att; 3]) -> impl Iterator<Item = BodyId> {
 /// Note a contact's features as the failing certificate on `p` shows
 /// them, a vertex of one body against a polygon edge of the other, for
 /// the world's contact at `t` ([`crate::world::World::hint_contact`],
-/// which checks them exactly): only where all three are real polygon
-/// vertices (the one that an approximation touches is not a contact).
+/// which checks them exactly): a real vertex against an edge between two
+/// real vertices, or against an approximation edge, whose line is a real
+/// edge's ([`Geo::edge_line`]: the real edge is the hint; a vertex that an
+/// approximation touches elsewhere on the line is not a contact, and the
+/// world's exact tests refuse the hint then).
 fn hint_contact(world: &Geo, p: &[Att; 3], t: &Time) {
     let real = |a: Att| match world.point_id(a)? {
         (_, (u32::MAX, v)) => Some(v as usize),
@@ -86,6 +89,21 @@ fn hint_contact(world: &Geo, p: &[Att; 3], t: &Time) {
             world.world.hint_contact(r, (bz, vz), (bx, j));
         }
         return;
+    }
+    let Some(line) = world.edge_line(*p) else {
+        return;
+    };
+    let (Obj::Body(bz), Some(vz)) = (line.x.obj, real(line.x)) else {
+        return;
+    };
+    let n = world.world.body(line.body).shape.len();
+    let j = if (line.from + 1) % n == line.to {
+        line.from
+    } else {
+        line.to
+    };
+    if let Some(r) = t.as_rational() {
+        world.world.hint_contact(r, (bz, vz), (line.body, j));
     }
 }
 
