@@ -61,6 +61,8 @@ impl Kinetic {
             p.iter()
                 .any(|a| matches!(a.obj, Obj::Body(x) if among.contains(&x)))
         };
+        // (`ids[i]`: the id of `touched[i]`'s certificate, `None` if it has
+        // none; nothing below drops one before the last loop)
         let mut touched: Vec<[Att; 3]> = Vec::with_capacity(room);
         let mut ids: Vec<Option<CertId>> = Vec::with_capacity(room);
         for (i, b) in bodies.iter().enumerate() {
