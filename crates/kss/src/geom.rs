@@ -247,6 +247,15 @@ impl BodyPolygon {
             debug_assert_eq!(s, self.turn_big(i), "the i128 turn of vertex {i}");
             return s;
         }
+        // (coordinates of up to 100 bits: differences in `i128`, their
+        // products compared in 256 bits)
+        if let Some(v) = self.small.as_deref() {
+            let (ax, ay) = (v[i][0] - v[h][0], v[i][1] - v[h][1]);
+            let (bx, by) = (v[j][0] - v[i][0], v[j][1] - v[i][1]);
+            let s = cross_sign_wide(ax, ay, bx, by);
+            debug_assert_eq!(s, self.turn_big(i), "the 256-bit turn of vertex {i}");
+            return s;
+        }
         self.turn_big(i)
     }
 
@@ -282,7 +291,9 @@ impl BodyPolygon {
                     Sign::of(&(&self.ys[j] - &self.ys[i])),
                 )
             };
-            match self.narrow() {
+            // (the signs of differences only: `i128` holds them for
+            // coordinates of up to 100 bits)
+            match self.small.as_deref() {
                 Some(v) => {
                     let h = half_of(
                         Sign::of_i128(v[j][0] - v[i][0]),
@@ -950,6 +961,38 @@ pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<S
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The 256-bit cross product's sign is the big integers' one, for
+    /// components of every length up to 2^125, equal products and zeros
+    /// among them.
+    #[test]
+    fn a_wide_cross_product_has_the_big_integers_sign() {
+        let mut rng = crate::rng::Rng::new(53);
+        let pick = |rng: &mut crate::rng::Rng| -> i128 {
+            let bits = rng.below(126) as u32;
+            let m = ((u128::from(rng.next_u64()) << 64) | u128::from(rng.next_u64()))
+                >> (128 - bits.max(1));
+            let v = m as i128;
+            match rng.below(10) {
+                0 => 0,
+                1 => (1i128 << 125) - 1,
+                2 => -((1i128 << 125) - 1),
+                _ if rng.below(2) == 0 => -v,
+                _ => v,
+            }
+        };
+        for round in 0..20_000 {
+            let [ax, ay, bx, by] = [0; 4].map(|_| pick(&mut rng));
+            // (every third case has equal products)
+            let (bx, by) = if round % 3 == 0 { (ax, ay) } else { (bx, by) };
+            let big = Int::from(ax) * Int::from(by) - Int::from(ay) * Int::from(bx);
+            assert_eq!(
+                cross_sign_wide(ax, ay, bx, by),
+                Sign::of(&big),
+                "{ax} {ay} {bx} {by}"
+            );
+        }
+    }
 
     /// A bounding box holds every point within the radii exactly (each
     /// corner of each point's square, compared as exact rationals), at
@@ -1722,6 +1765,32 @@ fn first_edges_i128(v: &[[i128; 2]]) -> [usize; 2] {
             (-x, -y)
         }),
     ]
+}
+
+/// The sign of `ax·by − ay·bx` for components below `2^126` in magnitude:
+/// the two products compared exactly as 256-bit sign and magnitude.
+pub(crate) fn cross_sign_wide(ax: i128, ay: i128, bx: i128, by: i128) -> Sign {
+    // |a|·|b| as (high, low) 128-bit halves, from 64-bit limbs
+    let wide = |a: u128, b: u128| -> (u128, u128) {
+        const M: u128 = (1 << 64) - 1;
+        let (a1, a0, b1, b0) = (a >> 64, a & M, b >> 64, b & M);
+        let (ll, lh, hl, hh) = (a0 * b0, a0 * b1, a1 * b0, a1 * b1);
+        let mid = (ll >> 64) + (lh & M) + (hl & M);
+        (
+            (hh + (lh >> 64) + (hl >> 64) + (mid >> 64)),
+            (ll & M) | (mid << 64),
+        )
+    };
+    let product = |a: i128, b: i128| -> (Sign, (u128, u128)) {
+        let s = Sign::of_i128(a).mul(Sign::of_i128(b));
+        (s, wide(a.unsigned_abs(), b.unsigned_abs()))
+    };
+    let ((sp, mp), (sq, mq)) = (product(ax, by), product(ay, bx));
+    match (sp, sq) {
+        (Sign::Positive, Sign::Positive) => Sign::from_ordering(mp.cmp(&mq)),
+        (Sign::Negative, Sign::Negative) => Sign::from_ordering(mq.cmp(&mp)),
+        (p, q) => Sign::from_ordering(p.cmp(&q)),
+    }
 }
 
 /// [`angle_cmp`] on `i128` vectors (components below `2^101`): the cross

@@ -57,8 +57,9 @@ pub struct Body {
     pub traj: Trajectory,
     /// `traj` in integer form (shared with deferred failure times).
     pub frame: Arc<Frame>,
-    /// Area (for bounce masses), as a double.
-    pub area: f64,
+    /// Area (for bounce masses), as a double ([`Body::area`]), computed
+    /// when first asked for (only a bounce needs it).
+    area: std::sync::OnceLock<f64>,
     /// Area centroid in the body frame ([`Body::centroid`]), computed
     /// when first asked for (only a bounce between non-parallel edges
     /// needs it).
@@ -107,7 +108,6 @@ impl Body {
         }
         let traj = Trajectory::through(t, &position, velocity);
         let frame = Arc::new(Frame::new(&traj, &shape));
-        let area = shape.twice_area().to_f64() / 2.0;
         let motion = frame.motion_f64();
         Ok(Body {
             motion_f64: motion,
@@ -117,10 +117,18 @@ impl Body {
             alive: true,
             traj,
             frame,
-            area,
+            area: std::sync::OnceLock::new(),
             centroid: std::sync::OnceLock::new(),
             anchor: None,
         })
+    }
+
+    /// The polygon's area (its mass in a bounce), the exact area rounded
+    /// to a double.
+    pub fn area(&self) -> f64 {
+        *self
+            .area
+            .get_or_init(|| self.shape.twice_area().to_f64() / 2.0)
     }
 
     /// The area centroid in the body frame, exactly.
@@ -1403,8 +1411,8 @@ fn impulse(
     vb: [f64; 2],
     restitution: f64,
 ) -> ([f64; 2], [f64; 2]) {
-    let inv_a = if ba.fixed { 0.0 } else { 1.0 / ba.area };
-    let inv_b = if bb.fixed { 0.0 } else { 1.0 / bb.area };
+    let inv_a = if ba.fixed { 0.0 } else { 1.0 / ba.area() };
+    let inv_b = if bb.fixed { 0.0 } else { 1.0 / bb.area() };
     let nf = n.to_f64();
     let len = nf[0].hypot(nf[1]);
     let nh = [nf[0] / len, nf[1] / len];
@@ -1413,7 +1421,7 @@ fn impulse(
     let new_a = [va[0] - j * inv_a * nh[0], va[1] - j * inv_a * nh[1]];
     let new_b = [vb[0] + j * inv_b * nh[0], vb[1] + j * inv_b * nh[1]];
     let normal = |x: f64| x.is_finite() && (x == 0.0 || x.abs() >= f64::MIN_POSITIVE);
-    let ordinary = [ba.area, bb.area].iter().all(|&m| normal(m) && m > 0.0)
+    let ordinary = [ba.area(), bb.area()].iter().all(|&m| normal(m) && m > 0.0)
         && normal(len)
         && len > 0.0
         && normal(u)
@@ -2041,7 +2049,7 @@ mod tests {
             ..Default::default()
         };
         let w = bodies(&s);
-        assert!(w.body(BodyId(1)).area < 1e-277);
+        assert!(w.body(BodyId(1)).area() < 1e-277);
         let n = Point::from_f64([1.0, 0.0]).expect("finite");
         let (a, b) = impulse(
             w.body(BodyId(0)),
