@@ -335,6 +335,12 @@ impl BodyPolygon {
         (&self.xs[i], &self.ys[i])
     }
 
+    /// The integer coordinates of every vertex as `i128`, where they have
+    /// at most 100 bits (as [`BodyPolygon::int_vertex`]).
+    pub(crate) fn small_vertices(&self) -> Option<&[[i128; 2]]> {
+        self.small.as_deref()
+    }
+
     /// Enclosures of the integer coordinates of vertex `i` (as
     /// [`Interval::of_int`] of [`BodyPolygon::int_vertex`]).
     pub fn int_vertex_enclosure(&self, i: usize) -> [Interval; 2] {

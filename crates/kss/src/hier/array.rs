@@ -323,15 +323,48 @@ impl EdgeArray {
     /// Build the array of `body` in `O(n)` (expected; plus `O(M)` entries).
     pub fn new(body: &BodyPolygon) -> EdgeArray {
         let n = body.len();
-        let normals: Vec<(Int, Int)> = (0..n)
-            .map(|i| {
-                let (x0, y0) = body.int_vertex(i);
-                let (x1, y1) = body.int_vertex((i + 1) % n);
-                // outward normal of a counter-clockwise edge: (dy, −dx)
-                (y1 - y0, x0 - x1)
+        // (with coordinates of at most 100 bits, the normals in `i128`
+        // too: their products' signs compared in 256 bits, no big
+        // integer)
+        let small: Option<Vec<(i128, i128)>> = body.small_vertices().map(|v| {
+            (0..n)
+                .map(|i| {
+                    let ([x0, y0], [x1, y1]) = (v[i], v[(i + 1) % n]);
+                    (y1 - y0, x0 - x1)
+                })
+                .collect()
+        });
+        let normals: Vec<(Int, Int)> = match &small {
+            Some(ns) => ns
+                .iter()
+                .map(|&(x, y)| (Int::from(x), Int::from(y)))
+                .collect(),
+            None => (0..n)
+                .map(|i| {
+                    let (x0, y0) = body.int_vertex(i);
+                    let (x1, y1) = body.int_vertex((i + 1) % n);
+                    // outward normal of a counter-clockwise edge: (dy, −dx)
+                    (y1 - y0, x0 - x1)
+                })
+                .collect(),
+        };
+        // (a double holds an integer below 2^53 exactly: the same value as
+        // the big integer's conversion)
+        const EXACT: i128 = 1 << 53;
+        let units: Vec<[f64; 2]> = normals
+            .iter()
+            .enumerate()
+            .map(|(i, p)| match small.as_ref().map(|ns| ns[i]) {
+                Some((x, y)) if x.abs() < EXACT && y.abs() < EXACT => {
+                    let (fx, fy) = (x as f64, y as f64);
+                    let r = fx.hypot(fy);
+                    let u = [fx / r, fy / r];
+                    debug_assert_eq!(u, approx_unit(&p.0, &p.1), "the unit of normal {i}");
+                    u
+                }
+                _ => approx_unit(&p.0, &p.1),
             })
             .collect();
-        let units: Vec<[f64; 2]> = normals.iter().map(|p| approx_unit(&p.0, &p.1)).collect();
         // exterior angle at vertex v: from the normal of edge v−1 to that of edge v
         let prev = |v: usize| (v + n - 1) % n;
         let alpha: Vec<f64> = (0..n)
@@ -343,7 +376,20 @@ impl EdgeArray {
             })
             .collect();
         let acute_at: Vec<bool> = (0..n)
-            .map(|v| dot(as_pair(&normals[prev(v)]), as_pair(&normals[v])) > Int::ZERO)
+            .map(|v| match &small {
+                // a · b = a0·b0 − a1·(−b1)
+                Some(ns) => {
+                    let ((a0, a1), (b0, b1)) = (ns[prev(v)], ns[v]);
+                    let acute = crate::geom::cross_sign_wide(a0, a1, -b1, b0) == Sign::Positive;
+                    debug_assert_eq!(
+                        acute,
+                        dot(as_pair(&normals[prev(v)]), as_pair(&normals[v])) > Int::ZERO,
+                        "the 256-bit dot product at vertex {v}"
+                    );
+                    acute
+                }
+                None => dot(as_pair(&normals[prev(v)]), as_pair(&normals[v])) > Int::ZERO,
+            })
             .collect();
         let (r, m) = replication_counts(&alpha, &acute_at);
         let h = m.trailing_zeros();
