@@ -59,7 +59,7 @@ pub struct Body {
     pub frame: Arc<Frame>,
     /// Area (for bounce masses), as a double ([`Body::area`]), computed
     /// when first asked for (only a bounce needs it).
-    area: std::sync::OnceLock<f64>,
+    area: LazyArea,
     /// Area centroid in the body frame ([`Body::centroid`]), computed
     /// when first asked for (only a bounce between non-parallel edges
     /// needs it).
@@ -69,6 +69,44 @@ pub struct Body {
     /// `traj`'s origin and velocity as doubles ([`Frame::motion_f64`]),
     /// for box filters.
     motion_f64: [f64; 4],
+}
+
+/// A double computed when first asked for, in one word (a `OnceLock<f64>`
+/// takes two): the bits of the value, or [`LazyArea::UNSET`], a NaN that
+/// no computation returns (an area is never NaN: it is a finite sum's
+/// rounding, at most infinite).
+#[derive(Debug)]
+struct LazyArea(std::sync::atomic::AtomicU64);
+
+impl LazyArea {
+    const UNSET: u64 = 0x7ff8_dead_beef_0001;
+
+    fn get_or_init(&self, f: impl FnOnce() -> f64) -> f64 {
+        use std::sync::atomic::Ordering::Relaxed;
+        let bits = self.0.load(Relaxed);
+        if bits != Self::UNSET {
+            return f64::from_bits(bits);
+        }
+        // (two threads may both compute it: the same value)
+        let v = f();
+        debug_assert_ne!(v.to_bits(), Self::UNSET);
+        self.0.store(v.to_bits(), Relaxed);
+        v
+    }
+}
+
+impl Default for LazyArea {
+    fn default() -> LazyArea {
+        LazyArea(std::sync::atomic::AtomicU64::new(Self::UNSET))
+    }
+}
+
+impl Clone for LazyArea {
+    fn clone(&self) -> LazyArea {
+        LazyArea(std::sync::atomic::AtomicU64::new(
+            self.0.load(std::sync::atomic::Ordering::Relaxed),
+        ))
+    }
 }
 
 impl Body {
@@ -117,7 +155,7 @@ impl Body {
             alive: true,
             traj,
             frame,
-            area: std::sync::OnceLock::new(),
+            area: LazyArea::default(),
             centroid: std::sync::OnceLock::new(),
             anchor: None,
         })
@@ -126,8 +164,7 @@ impl Body {
     /// The polygon's area (its mass in a bounce), the exact area rounded
     /// to a double.
     pub fn area(&self) -> f64 {
-        *self
-            .area
+        self.area
             .get_or_init(|| self.shape.twice_area().to_f64() / 2.0)
     }
 

@@ -323,38 +323,33 @@ impl EdgeArray {
     /// Build the array of `body` in `O(n)` (expected; plus `O(M)` entries).
     pub fn new(body: &BodyPolygon) -> EdgeArray {
         let n = body.len();
-        // (with coordinates of at most 100 bits, the normals in `i128`
-        // too: their products' signs compared in 256 bits, no big
-        // integer)
-        let small: Option<Vec<(i128, i128)>> = body.small_vertices().map(|v| {
-            (0..n)
-                .map(|i| {
-                    let ([x0, y0], [x1, y1]) = (v[i], v[(i + 1) % n]);
-                    (y1 - y0, x0 - x1)
-                })
-                .collect()
-        });
-        let normals: Vec<(Int, Int)> = match &small {
-            Some(ns) => ns
-                .iter()
-                .map(|&(x, y)| (Int::from(x), Int::from(y)))
-                .collect(),
-            None => (0..n)
-                .map(|i| {
+        // (with coordinates of at most 100 bits, each normal in `i128`
+        // too, from the vertices when asked: their products' signs
+        // compared in 256 bits, no big integer, and no second vector)
+        let small = body.small_vertices();
+        let small_normal = |i: usize| -> Option<(i128, i128)> {
+            let v = small?;
+            let ([x0, y0], [x1, y1]) = (v[i], v[(i + 1) % n]);
+            Some((y1 - y0, x0 - x1))
+        };
+        let normals: Vec<(Int, Int)> = (0..n)
+            .map(|i| match small_normal(i) {
+                Some((x, y)) => (Int::from(x), Int::from(y)),
+                None => {
                     let (x0, y0) = body.int_vertex(i);
                     let (x1, y1) = body.int_vertex((i + 1) % n);
                     // outward normal of a counter-clockwise edge: (dy, −dx)
                     (y1 - y0, x0 - x1)
-                })
-                .collect(),
-        };
+                }
+            })
+            .collect();
         // (a double holds an integer below 2^53 exactly: the same value as
         // the big integer's conversion)
         const EXACT: i128 = 1 << 53;
         let units: Vec<[f64; 2]> = normals
             .iter()
             .enumerate()
-            .map(|(i, p)| match small.as_ref().map(|ns| ns[i]) {
+            .map(|(i, p)| match small_normal(i) {
                 Some((x, y)) if x.abs() < EXACT && y.abs() < EXACT => {
                     let (fx, fy) = (x as f64, y as f64);
                     let r = fx.hypot(fy);
@@ -376,10 +371,9 @@ impl EdgeArray {
             })
             .collect();
         let acute_at: Vec<bool> = (0..n)
-            .map(|v| match &small {
+            .map(|v| match small_normal(prev(v)).zip(small_normal(v)) {
                 // a · b = a0·b0 − a1·(−b1)
-                Some(ns) => {
-                    let ((a0, a1), (b0, b1)) = (ns[prev(v)], ns[v]);
+                Some(((a0, a1), (b0, b1))) => {
                     let acute = crate::geom::cross_sign_wide(a0, a1, -b1, b0) == Sign::Positive;
                     debug_assert_eq!(
                         acute,
