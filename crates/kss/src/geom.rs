@@ -1800,7 +1800,8 @@ pub(crate) fn cross_sign_wide(ax: i128, ay: i128, bx: i128, by: i128) -> Sign {
 }
 
 /// [`angle_cmp`] on `i128` vectors (components below `2^101`): the cross
-/// products on `i128` where they fit, on big integers where not.
+/// products on `i128` where they fit, compared in 256 bits
+/// ([`cross_sign_wide`]) where not.
 fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
     let half = |d: (i128, i128)| u8::from(!(d.1 > 0 || (d.1 == 0 && d.0 > 0)));
     let (hu, hv) = (half(u), half(v));
@@ -1812,10 +1813,8 @@ fn angle_cmp_i128(u: (i128, i128), v: (i128, i128)) -> std::cmp::Ordering {
     if small(u) && small(v) {
         return (u.1 * v.0).cmp(&(u.0 * v.1));
     }
-    match (u.1.checked_mul(v.0), u.0.checked_mul(v.1)) {
-        (Some(p), Some(q)) => p.cmp(&q),
-        _ => (Int::from(u.1) * Int::from(v.0)).cmp(&(Int::from(u.0) * Int::from(v.1))),
-    }
+    // (larger ones: the products compared in 256 bits)
+    cross_sign_wide(u.1, u.0, v.1, v.0).to_ordering()
 }
 
 /// Compare the angles in `[0, 2π)` of two non-zero integer vectors.
