@@ -317,10 +317,14 @@ impl Kinetic {
             let failure = classify(world, &cert, &t);
             let (pairs, apart, zero) = match failure {
                 Failure::Contact { a, b, third } => {
-                    hint_contact(world, &p, &t);
                     let zero = root_at(world, &cert, s.fp.as_deref(), Some(&t), &t);
                     let owners = s.owners.clone();
                     let apart = crate::structure::events::real_touch_excluded(world, &p, &t, zero);
+                    // (no contact to prove where the polygons are apart:
+                    // nor the exact instant to compute for its hint)
+                    if apart.is_none() {
+                        hint_contact(world, &p, &t);
+                    }
                     let pairs =
                         contact_pairs(world, &self.kss, &owners, &p, &t, (a, b, third), apart);
                     (pairs, apart, zero)
