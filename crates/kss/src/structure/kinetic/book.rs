@@ -54,64 +54,112 @@ pub(super) fn cert_poly_of(
 /// Enclosures of the coefficients of a positive multiple of [`cert_poly`]
 /// (an enclosure `[0, 0]` where the coefficient is exactly zero because two
 /// of the points are on one body), from the f64 view of the points.
+///
+/// Each coefficient is a signed sum of products `u_i · v_j` of the
+/// differences `u = q − p` and `v = r − p` of the points' linear positions
+/// (midpoint–radius enclosures, [`Geo::linear_mr`]). The value is computed
+/// once in plain f64 and bounded once, rather than each operation carrying
+/// its own radius: a difference `d = fl(b − a)` is within
+/// `e = r_a + r_b + ε|d|` of the true one; a product of two such is within
+/// `|d|·e' + |d'|·e + e·e'` of `d·d'`; the rounding of at most four
+/// products and three sums is within `5ε` of the sum `S` of the products'
+/// magnitudes. The bound `(Σ inputs + 5εS)·(1 + 32ε) + TINY` covers these
+/// terms and the rounding of the bound's own sums and products (all of
+/// nonnegative numbers, fewer than 32 operations deep), and the underflow
+/// of the products. A coefficient all of whose products have a factor that
+/// is exactly zero (a velocity difference of two points of one body) is
+/// the exact zero.
 pub(super) fn cert_enclosure(world: &Geo, c: &Cert) -> Option<[Interval; 3]> {
-    use crate::geom::Mr;
+    use crate::geom::EPS;
     let order = c.kind == crate::structure::certs::CertKind::Order;
     // the same points as cert_poly: Order is −(p0 − p1)·(p2 − p1)
     let [p, q, r] = if order { [c.p[1], c.p[0], c.p[2]] } else { c.p };
-    // (midpoint–radius arithmetic: a few products per operation and no
-    // branch, where intervals take the extreme products by cases)
     let [ep, eq, er] = [
         world.linear_mr(p)?,
         world.linear_mr(q)?,
         world.linear_mr(r)?,
     ];
-    // q − p as linear positions; the velocity part is exactly zero for two
-    // points of one body
-    let diff = |a: Att, ea: &[Mr; 4], b: Att, eb: &[Mr; 4]| {
-        let same = a.obj == b.obj;
+    // b − a per component `[x0, x1, y0, y1]` as (value, bound); the
+    // velocity part is exactly zero for two points of one body
+    let diff = |same: bool, ea: &[crate::geom::Mr; 4], eb: &[crate::geom::Mr; 4]| {
+        let one = |k: usize| {
+            let d = eb[k].m - ea[k].m;
+            (d, ea[k].r + eb[k].r + EPS * d.abs())
+        };
+        let zero = (0.0, 0.0);
         [
-            eb[0] - ea[0],
-            if same { Mr::ZERO } else { eb[1] - ea[1] },
-            eb[2] - ea[2],
-            if same { Mr::ZERO } else { eb[3] - ea[3] },
+            one(0),
+            if same { zero } else { one(1) },
+            one(2),
+            if same { zero } else { one(3) },
         ]
     };
-    let [ux0, ux1, uy0, uy1] = diff(p, &ep, q, &eq);
-    let [vx0, vx1, vy0, vy1] = diff(p, &ep, r, &er);
-    let same_qr = q.obj == r.obj;
-    // (a sum with an exact zero is the other term, exactly)
-    let plus = |a: Mr, b: Mr| {
-        if a.is_zero() {
-            b
-        } else if b.is_zero() {
-            a
-        } else {
-            a + b
-        }
-    };
+    let u = diff(p.obj == q.obj, &ep, &eq);
+    let v = diff(p.obj == r.obj, &ep, &er);
+    let sum = |terms| signed_products(&u, &v, terms);
+    let sum2 = |terms| signed_products(&u, &v, terms);
+    const X0: usize = 0;
+    const X1: usize = 1;
+    const Y0: usize = 2;
+    const Y1: usize = 3;
     let mut e = if order {
         [
-            plus(ux0 * vx0, uy0 * vy0),
-            plus(plus(ux0 * vx1, ux1 * vx0), plus(uy0 * vy1, uy1 * vy0)),
-            plus(ux1 * vx1, uy1 * vy1),
+            sum2([(X0, X0, false), (Y0, Y0, false)]),
+            sum([
+                (X0, X1, false),
+                (X1, X0, false),
+                (Y0, Y1, false),
+                (Y1, Y0, false),
+            ]),
+            sum2([(X1, X1, false), (Y1, Y1, false)]),
         ]
     } else {
         [
-            plus(ux0 * vy0, -(uy0 * vx0)),
-            plus(plus(ux0 * vy1, ux1 * vy0), -plus(uy0 * vx1, uy1 * vx0)),
+            sum2([(X0, Y0, false), (Y0, X0, true)]),
+            sum([
+                (X0, Y1, false),
+                (X1, Y0, false),
+                (Y0, X1, true),
+                (Y1, X0, true),
+            ]),
             // u and v move alike when q and r are on one body
-            if same_qr {
-                Mr::ZERO
+            if q.obj == r.obj {
+                Interval::point(0.0)
             } else {
-                plus(ux1 * vy1, -(uy1 * vx1))
+                sum2([(X1, Y1, false), (Y1, X1, true)])
             },
         ]
     };
     if order || c.sign == Sign::Negative {
         e = e.map(|x| -x);
     }
-    Some(e.map(Mr::interval))
+    Some(e)
+}
+
+/// `Σ ±u_i·v_j` over `terms` (`(i, j, negated)`), enclosed as
+/// [`cert_enclosure`] says, for differences `u` and `v` given as
+/// (value, bound) per component.
+#[inline(always)]
+fn signed_products<const N: usize>(
+    u: &[(f64, f64); 4],
+    v: &[(f64, f64); 4],
+    terms: [(usize, usize, bool); N],
+) -> Interval {
+    use crate::geom::{EPS, TINY};
+    let (mut m, mut bound, mut mags, mut zero) = (0.0f64, 0.0f64, 0.0f64, true);
+    for (i, j, neg) in terms {
+        let ((a, ea), (b, eb)) = (u[i], v[j]);
+        let x = a * b;
+        m += if neg { -x } else { x };
+        bound += a.abs() * eb + b.abs() * ea + ea * eb;
+        mags += x.abs();
+        zero &= (a == 0.0 && ea == 0.0) || (b == 0.0 && eb == 0.0);
+    }
+    if zero {
+        return Interval::point(0.0);
+    }
+    let r = (bound + 5.0 * EPS * mags) * (1.0 + 32.0 * EPS) + TINY;
+    crate::geom::Mr { m, r }.interval()
 }
 
 /// A deferred failure time's exact computation: the certificate's three
