@@ -145,7 +145,7 @@ fn filtered_turns_agree_with_the_exact_ones() {
 }
 
 /// The certificate filter's coefficient enclosures ([`cert_enclosure`],
-/// midpoint–radius arithmetic) hold the exact coefficients of the
+/// f64 values with one bound per coefficient) hold the exact coefficients of the
 /// certificate function (in real coordinates, a positive multiple of
 /// [`cert_poly`]), for every kind and sign, on triples of real and
 /// approximation vertices of every family, moving and fixed, and are
