@@ -6,7 +6,7 @@
 //! therefore dyadic rationals; a [`BodyPolygon`] stores them as integers over
 //! one power of two so that predicates run on integers.
 
-use crate::num::{decompose_f64, Int, Interval, Rational, Sign};
+use crate::num::{Int, Interval, Rational, Sign};
 
 /// An exact point.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -130,35 +130,76 @@ impl BodyPolygon {
         if n < 3 {
             return Err(PolygonDefect::TooFew);
         }
-        let mut parts = Vec::with_capacity(2 * n);
-        for (i, v) in vertices.iter().enumerate() {
-            for c in v {
-                parts.push(decompose_f64(*c).ok_or(PolygonDefect::NonFinite(i))?);
-            }
+        if let Some(i) = vertices
+            .iter()
+            .position(|v| !(v[0].is_finite() && v[1].is_finite()))
+        {
+            return Err(PolygonDefect::NonFinite(i));
         }
+        // each coordinate as `m · 2^e` (`|m| < 2^53`), and the least
+        // exponent of a nonzero one: the common unit
+        let parts: Vec<[(i64, i64); 2]> = vertices.iter().map(|v| v.map(split_f64)).collect();
         let exp = parts
             .iter()
-            .filter(|(m, _)| !m.is_zero())
+            .flatten()
+            .filter(|(m, _)| *m != 0)
             .map(|(_, e)| *e)
             .min()
             .unwrap_or(0);
-        let ints: Vec<Int> = parts
-            .into_iter()
-            .map(|(m, e)| {
-                if m.is_zero() {
+        // (in `i128` where every coordinate fits in 100 bits on that unit, as
+        // almost always: no big integer is made but the stored ones)
+        let widest = parts
+            .iter()
+            .flatten()
+            .filter(|(m, _)| *m != 0)
+            .map(|(_, e)| e - exp)
+            .max()
+            .unwrap_or(0);
+        let (xs, ys, ivs): (Vec<Int>, Vec<Int>, Vec<[Interval; 2]>) = if widest <= 47 {
+            let int = |(m, e): (i64, i64)| {
+                if m == 0 {
+                    0
+                } else {
+                    i128::from(m) << (e - exp)
+                }
+            };
+            let small: Vec<[i128; 2]> = parts.iter().map(|p| p.map(int)).collect();
+            (
+                small.iter().map(|p| Int::from(p[0])).collect(),
+                small.iter().map(|p| Int::from(p[1])).collect(),
+                small.iter().map(|p| p.map(Interval::of_i128)).collect(),
+            )
+        } else {
+            let ints: Vec<[Int; 2]> = parts
+                .iter()
+                .map(|p| p.map(|(m, e)| Int::from(m) << ((e - exp).max(0) as usize)))
+                .collect();
+            (
+                ints.iter().map(|p| p[0].clone()).collect(),
+                ints.iter().map(|p| p[1].clone()).collect(),
+                ints.iter()
+                    .map(|p| p.each_ref().map(Interval::of_int))
+                    .collect(),
+            )
+        };
+        #[cfg(debug_assertions)]
+        {
+            // the same integers as from the big-integer decomposition
+            let wide: Vec<(Int, i64)> = vertices
+                .iter()
+                .flatten()
+                .map(|&c| crate::num::decompose_f64(c).expect("finite"))
+                .collect();
+            for (k, (m, e)) in wide.into_iter().enumerate() {
+                let v = if m.is_zero() {
                     m
                 } else {
                     m << ((e - exp) as usize)
-                }
-            })
-            .collect();
-        let xs: Vec<Int> = ints.iter().step_by(2).cloned().collect();
-        let ys: Vec<Int> = ints.iter().skip(1).step_by(2).cloned().collect();
-        let ivs = xs
-            .iter()
-            .zip(&ys)
-            .map(|(x, y)| [Interval::of_int(x), Interval::of_int(y)])
-            .collect();
+                };
+                let got = if k % 2 == 0 { &xs[k / 2] } else { &ys[k / 2] };
+                debug_assert_eq!(&v, got, "coordinate {k} on the common unit");
+            }
+        }
         let mut bbox = [
             f64::INFINITY,
             f64::NEG_INFINITY,
@@ -964,6 +1005,25 @@ pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<S
     sign_beyond(det.v, bound)
 }
 
+/// `x` (finite) as `m · 2^e` with `|m| < 2^53`: the significand and
+/// exponent of its bits (`(0, 0)` for zero), as
+/// [`crate::num::decompose_f64`] gives
+/// them without a big integer.
+fn split_f64(x: f64) -> (i64, i64) {
+    if x == 0.0 {
+        return (0, 0);
+    }
+    let bits = x.to_bits();
+    let exp = ((bits >> 52) & 0x7ff) as i64;
+    let frac = (bits & ((1u64 << 52) - 1)) as i64;
+    let (m, e) = if exp == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1i64 << 52), exp - 1075)
+    };
+    (if bits >> 63 == 1 { -m } else { m }, e)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1394,6 +1454,13 @@ mod tests {
         // tiny and huge coordinates together stay exact
         let mixed = BodyPolygon::new(&[[0.0, 0.0], [1e6, 1e-9], [0.5, 1e6]]).unwrap();
         assert_eq!(mixed.vertex(1).to_f64(), [1e6, 1e-9]);
+        // huge coordinates and zeros: a common unit above 1 (the integers
+        // in i128; debug builds compare them with the big-integer ones)
+        let huge = BodyPolygon::new(&[[0.0, 0.0], [1e20, 0.0], [0.0, -1e20]]);
+        assert_eq!(huge, Err(PolygonDefect::Clockwise));
+        let huge = BodyPolygon::new(&[[0.0, 0.0], [1e20, 0.0], [0.0, 3e20]]).unwrap();
+        assert_eq!(huge.vertex(2).to_f64(), [0.0, 3e20]);
+        assert!(huge.exp() > 0);
     }
 
     #[test]
