@@ -226,6 +226,35 @@ pub fn triangulate(
     segments: &[[usize; 2]],
     p: &impl Predicates,
 ) -> Result<Vec<[usize; 3]>, CdtError> {
+    let mesh = triangulate_mesh(n, segments, p)?;
+    Ok(mesh.tri.iter().map(|t| t.map(|v| v as usize)).collect())
+}
+
+/// [`triangulate`], with each triangle's neighbours: for side `i` (from
+/// corner `i` to corner `i + 1`), the index of the triangle across it,
+/// `None` on the convex hull.
+pub fn triangulate_adjacent(
+    n: usize,
+    segments: &[[usize; 2]],
+    p: &impl Predicates,
+) -> Result<TrianglesAdjacent, CdtError> {
+    let mesh = triangulate_mesh(n, segments, p)?;
+    let across = |x: u32| (x != NONE).then_some(x as usize);
+    Ok((
+        mesh.tri.iter().map(|t| t.map(|v| v as usize)).collect(),
+        mesh.nbr.iter().map(|t| t.map(across)).collect(),
+    ))
+}
+
+/// The triangles of [`triangulate_adjacent`] and their neighbours.
+pub type TrianglesAdjacent = (Vec<[usize; 3]>, Vec<[Option<usize>; 3]>);
+
+/// The mesh of [`triangulate`].
+fn triangulate_mesh(
+    n: usize,
+    segments: &[[usize; 2]],
+    p: &impl Predicates,
+) -> Result<Mesh, CdtError> {
     let mut mesh = delaunay(n, p)?;
     let mut fixed: HashSet<(u32, u32), foldhash::fast::FixedState> =
         HashSet::with_capacity_and_hasher(segments.len(), Default::default());
@@ -250,7 +279,7 @@ pub fn triangulate(
     if !crossing.is_empty() {
         return Err(CdtError::Crossing(crossing));
     }
-    Ok(mesh.tri.iter().map(|t| t.map(|v| v as usize)).collect())
+    Ok(mesh)
 }
 
 /// The seed of the insertion order (any fixed value: the order must be the

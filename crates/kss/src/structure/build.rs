@@ -231,35 +231,48 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
         return Ok(Kss::default());
     }
     let vertices = Vertices::new(world, t, atts, shrink);
-    let tris = cdt::triangulate(vertices.atts.len(), &edges, &vertices)
+    let (tris, nbr) = cdt::triangulate_adjacent(vertices.atts.len(), &edges, &vertices)
         .map_err(|e: CdtError| BuildError::Degenerate(e.to_string()))?;
     let atts = vertices.atts;
-    let mut directed: FastMap<(usize, usize), ()> =
-        FastMap::with_capacity_and_hasher(3 * tris.len(), Default::default());
-    for tri in &tris {
+    // Convex hull edges (CCW): the triangle sides with no triangle across,
+    // in the order of their ends, each with its triangle and side.
+    let mut hull: Vec<((usize, usize), (usize, usize))> = Vec::new();
+    for (ti, tri) in tris.iter().enumerate() {
         for i in 0..3 {
-            directed.insert((tri[i], tri[(i + 1) % 3]), ());
+            if nbr[ti][i].is_none() {
+                hull.push(((tri[i], tri[(i + 1) % 3]), (ti, i)));
+            }
         }
     }
-    // Convex hull edges (CCW): directed edges whose reverse is in no triangle.
-    let mut hull: Vec<(usize, usize)> = directed
-        .keys()
-        .filter(|&&(u, v)| !directed.contains_key(&(v, u)))
-        .copied()
-        .collect();
     hull.sort_unstable();
     let same = |x: usize, y: usize| atts[x].obj == atts[y].obj;
-    // Free-space triangles as attachment triples (ω for the infinite ones).
-    let mut faces: Vec<[Att; 3]> = Vec::new();
-    for tri in &tris {
+    // Free-space triangles as attachment triples (ω for the infinite ones),
+    // and each triangle's face (`NO_FACE` inside a polygon).
+    const NO_FACE: usize = usize::MAX;
+    let mut faces: Vec<[Att; 3]> = Vec::with_capacity(tris.len() + hull.len());
+    let mut face_tri: Vec<usize> = Vec::with_capacity(tris.len());
+    let mut tri_face: Vec<usize> = vec![NO_FACE; tris.len()];
+    for (ti, tri) in tris.iter().enumerate() {
         let [u, v, w] = *tri;
         if same(u, v) && same(v, w) {
             continue; // inside a polygon
         }
+        tri_face[ti] = faces.len();
+        face_tri.push(ti);
         faces.push([atts[u], atts[v], atts[w]]);
     }
-    for &(u, v) in &hull {
+    let first_hull_face = faces.len();
+    for &((u, v), _) in &hull {
         faces.push([atts[v], atts[u], Att::OMEGA]);
+    }
+    // (the hull edges by their first and their last vertex)
+    let mut hull_from: FastMap<usize, usize> =
+        FastMap::with_capacity_and_hasher(hull.len(), Default::default());
+    let mut hull_to: FastMap<usize, usize> =
+        FastMap::with_capacity_and_hasher(hull.len(), Default::default());
+    for (k, &((u, v), _)) in hull.iter().enumerate() {
+        hull_from.insert(u, k);
+        hull_to.insert(v, k);
     }
     // Check that two corners on one body are adjacent on it (no chords).
     for f in &faces {
@@ -275,19 +288,68 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
             }
         }
     }
-    // Adjacency: directed side -> (face, side index).
-    let mut side_of: FastMap<(Att, Att), (usize, usize)> =
-        FastMap::with_capacity_and_hasher(3 * faces.len(), Default::default());
-    for (fi, f) in faces.iter().enumerate() {
-        for i in 0..3 {
-            side_of.insert((f[i], f[(i + 1) % 3]), (fi, i));
+    // Adjacency: the face and side across side `i` of face `f` (`None`
+    // into a polygon). A triangle's face has its triangle's corners in
+    // order; the ω-face of hull edge `u → v` is `(v, u, ω)`, across its
+    // first side from the edge's triangle, across its second from the
+    // ω-face of the hull edge that ends at `u` (at that one's third side),
+    // across its third from the one that begins at `v`.
+    let across = |f: usize, i: usize| -> Option<(usize, usize)> {
+        if f < first_hull_face {
+            let ti = face_tri[f];
+            let tri = tris[ti];
+            let (a, b) = (tri[i], tri[(i + 1) % 3]);
+            match nbr[ti][i] {
+                Some(n) => {
+                    let g = tri_face[n];
+                    let j = (0..3).find(|&j| tris[n][j] == b && tris[n][(j + 1) % 3] == a)?;
+                    (g != NO_FACE).then_some((g, j))
+                }
+                None => {
+                    let k = hull.binary_search_by(|h| h.0.cmp(&(a, b))).ok()?;
+                    Some((first_hull_face + k, 0))
+                }
+            }
+        } else {
+            let k = f - first_hull_face;
+            let ((u, v), (ti, ts)) = hull[k];
+            match i {
+                0 => Some((tri_face[ti], ts)).filter(|&(g, _)| g != NO_FACE),
+                1 => hull_to.get(&u).map(|&j| (first_hull_face + j, 2)),
+                _ => hull_from.get(&v).map(|&j| (first_hull_face + j, 1)),
+            }
+        }
+    };
+    #[cfg(debug_assertions)]
+    {
+        // the same as the faces' sides, matched by their points
+        let mut side_of: FastMap<(Att, Att), (usize, usize)> =
+            FastMap::with_capacity_and_hasher(3 * faces.len(), Default::default());
+        for (fi, f) in faces.iter().enumerate() {
+            for i in 0..3 {
+                side_of.insert((f[i], f[(i + 1) % 3]), (fi, i));
+            }
+        }
+        for (fi, f) in faces.iter().enumerate() {
+            for i in 0..3 {
+                let (x, y) = (f[i], f[(i + 1) % 3]);
+                if x.obj != y.obj {
+                    debug_assert_eq!(
+                        across(fi, i),
+                        side_of.get(&(y, x)).copied(),
+                        "the face across side {i} of face {fi}"
+                    );
+                }
+            }
         }
     }
-    let mut tri_id: FastMap<usize, TriId> = FastMap::default();
+    let mut face_kss_tri: Vec<u32> = vec![u32::MAX; faces.len()];
+    let mut kss_tri_face: Vec<usize> = Vec::new();
     let mut kss = Kss::default();
     for (fi, f) in faces.iter().enumerate() {
         if is_partition(f) {
-            tri_id.insert(fi, TriId(kss.tris.len() as u32));
+            face_kss_tri[fi] = kss.tris.len() as u32;
+            kss_tri_face.push(fi);
             kss.tris.push(PartitionTriangle {
                 c: *f,
                 corr: [CorrId(u32::MAX); 3],
@@ -306,22 +368,25 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
                 continue;
             }
             let (mut len_a, mut len_b) = (0u32, 0u32);
-            let (mut x, mut y) = (p, q); // the side we cross, in the current face's order
+            // the side we cross: its face and its index there
+            let (mut f, mut side) = (kss_tri_face[ti], i);
             let end = loop {
-                let &(fj, sj) = side_of
-                    .get(&(y, x))
+                let (fj, sj) = across(f, side)
                     .ok_or_else(|| BuildError::Degenerate("a side without neighbour".into()))?;
                 let g = &faces[fj];
                 if is_partition(g) {
-                    break (tri_id[&fj], sj as u8);
+                    break (TriId(face_kss_tri[fj]), sj as u8);
                 }
-                let on_a;
-                ((x, y), on_a) = cross_two_object_face(g, sj, p.obj);
+                let ((x, y), on_a) = cross_two_object_face(g, sj, p.obj);
                 if on_a {
                     len_a += 1;
                 } else {
                     len_b += 1;
                 }
+                side = (0..3)
+                    .find(|&k| g[k] == x && g[(k + 1) % 3] == y)
+                    .expect("the side crossed is a side of its face");
+                f = fj;
             };
             let k = CorrId(kss.corrs.len() as u32);
             kss.corrs.push(Corridor {
