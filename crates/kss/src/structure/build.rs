@@ -357,7 +357,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
         }
     }
     // Walk each corridor from a partition-triangle side whose first corner is finite.
-    for ti in 0..kss.tris.len() {
+    for (ti, &start) in kss_tri_face.iter().enumerate() {
         for i in 0..3 {
             let tri = &kss.tris[ti];
             if tri.corr[i] != CorrId(u32::MAX) {
@@ -369,7 +369,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
             }
             let (mut len_a, mut len_b) = (0u32, 0u32);
             // the side we cross: its face and its index there
-            let (mut f, mut side) = (kss_tri_face[ti], i);
+            let (mut f, mut side) = (start, i);
             let end = loop {
                 let (fj, sj) = across(f, side)
                     .ok_or_else(|| BuildError::Degenerate("a side without neighbour".into()))?;
