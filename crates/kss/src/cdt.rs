@@ -239,7 +239,7 @@ pub fn triangulate_adjacent(
     p: &impl Predicates,
 ) -> Result<TrianglesAdjacent, CdtError> {
     let mesh = triangulate_mesh(n, segments, p)?;
-    let across = |x: u32| (x != NONE).then_some(x as usize);
+    let across = |x: u32| (x != NONE).then_some(x);
     Ok((
         mesh.tri.iter().map(|t| t.map(|v| v as usize)).collect(),
         mesh.nbr.iter().map(|t| t.map(across)).collect(),
@@ -247,7 +247,7 @@ pub fn triangulate_adjacent(
 }
 
 /// The triangles of [`triangulate_adjacent`] and their neighbours.
-pub type TrianglesAdjacent = (Vec<[usize; 3]>, Vec<[Option<usize>; 3]>);
+pub type TrianglesAdjacent = (Vec<[usize; 3]>, Vec<[Option<u32>; 3]>);
 
 /// The mesh of [`triangulate`].
 fn triangulate_mesh(

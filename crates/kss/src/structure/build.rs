@@ -299,7 +299,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
             let ti = face_tri[f];
             let tri = tris[ti];
             let (a, b) = (tri[i], tri[(i + 1) % 3]);
-            match nbr[ti][i] {
+            match nbr[ti][i].map(|n| n as usize) {
                 Some(n) => {
                     let g = tri_face[n];
                     let j = (0..3).find(|&j| tris[n][j] == b && tris[n][(j + 1) % 3] == a)?;
