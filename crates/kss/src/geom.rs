@@ -138,7 +138,10 @@ impl BodyPolygon {
         }
         // each coordinate as `m · 2^e` (`|m| < 2^53`), and the least
         // exponent of a nonzero one: the common unit
-        let parts: Vec<[(i64, i64); 2]> = vertices.iter().map(|v| v.map(split_f64)).collect();
+        let parts: Vec<[(i64, i64); 2]> = vertices
+            .iter()
+            .map(|v| v.map(crate::num::split_f64))
+            .collect();
         let exp = parts
             .iter()
             .flatten()
@@ -1003,25 +1006,6 @@ pub fn in_circle_mid_rad(a: MidRad, b: MidRad, c: MidRad, d: MidRad) -> Option<S
         .add(cl.mul(ax.mul(by).sub(ay.mul(bx))));
     let bound = det.e * (1.0 + 64.0 * EPS) + TINY;
     sign_beyond(det.v, bound)
-}
-
-/// `x` (finite) as `m · 2^e` with `|m| < 2^53`: the significand and
-/// exponent of its bits (`(0, 0)` for zero), as
-/// [`crate::num::decompose_f64`] gives
-/// them without a big integer.
-fn split_f64(x: f64) -> (i64, i64) {
-    if x == 0.0 {
-        return (0, 0);
-    }
-    let bits = x.to_bits();
-    let exp = ((bits >> 52) & 0x7ff) as i64;
-    let frac = (bits & ((1u64 << 52) - 1)) as i64;
-    let (m, e) = if exp == 0 {
-        (frac, -1074)
-    } else {
-        (frac | (1i64 << 52), exp - 1075)
-    };
-    (if bits >> 63 == 1 { -m } else { m }, e)
 }
 
 #[cfg(test)]

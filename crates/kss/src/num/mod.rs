@@ -23,7 +23,7 @@ pub use dashu_int::IBig as Int;
 pub use interval::Interval;
 pub use poly::{filtered_failure, filtered_root, Filtered, Poly};
 pub(crate) use rational::quotient_interval;
-pub use rational::{decompose_f64, Rational};
+pub use rational::{decompose_f64, split_f64, Rational};
 pub use time::{ExactTime, Time};
 
 use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};

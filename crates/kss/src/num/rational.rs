@@ -342,20 +342,27 @@ pub fn decompose_f64(x: f64) -> Option<(Int, i64)> {
     if !x.is_finite() {
         return None;
     }
+    let (m, e) = split_f64(x);
+    Some((Int::from(m), e))
+}
+
+/// Finite `x` as `(m, e)` with `x = m · 2^e` and `|m| < 2^53`: the
+/// significand and exponent of its bits (`(0, 0)` for zero), as
+/// [`decompose_f64`] gives them, without a big integer.
+pub fn split_f64(x: f64) -> (i64, i64) {
+    debug_assert!(x.is_finite(), "split_f64 of a non-finite number");
     if x == 0.0 {
-        return Some((Int::ZERO, 0));
+        return (0, 0);
     }
     let bits = x.to_bits();
-    let sign = bits >> 63;
     let exp = ((bits >> 52) & 0x7ff) as i64;
-    let frac = bits & ((1u64 << 52) - 1);
+    let frac = (bits & ((1u64 << 52) - 1)) as i64;
     let (m, e) = if exp == 0 {
         (frac, -1074)
     } else {
-        (frac | (1u64 << 52), exp - 1075)
+        (frac | (1i64 << 52), exp - 1075)
     };
-    let m = Int::from(m);
-    Some((if sign == 1 { -m } else { m }, e))
+    (if bits >> 63 == 1 { -m } else { m }, e)
 }
 
 /// Whether `|x|` is a power of two (without copying `x`: the magnitude's

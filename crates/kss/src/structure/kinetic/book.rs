@@ -96,37 +96,43 @@ pub(super) fn cert_enclosure(world: &Geo, c: &Cert) -> Option<[Interval; 3]> {
     };
     let u = diff(p.obj == q.obj, &ep, &eq);
     let v = diff(p.obj == r.obj, &ep, &er);
-    let sum = |terms| signed_products(&u, &v, terms);
-    let sum2 = |terms| signed_products(&u, &v, terms);
     const X0: usize = 0;
     const X1: usize = 1;
     const Y0: usize = 2;
     const Y1: usize = 3;
     let mut e = if order {
         [
-            sum2([(X0, X0, false), (Y0, Y0, false)]),
-            sum([
-                (X0, X1, false),
-                (X1, X0, false),
-                (Y0, Y1, false),
-                (Y1, Y0, false),
-            ]),
-            sum2([(X1, X1, false), (Y1, Y1, false)]),
+            signed_products(&u, &v, [(X0, X0, false), (Y0, Y0, false)]),
+            signed_products(
+                &u,
+                &v,
+                [
+                    (X0, X1, false),
+                    (X1, X0, false),
+                    (Y0, Y1, false),
+                    (Y1, Y0, false),
+                ],
+            ),
+            signed_products(&u, &v, [(X1, X1, false), (Y1, Y1, false)]),
         ]
     } else {
         [
-            sum2([(X0, Y0, false), (Y0, X0, true)]),
-            sum([
-                (X0, Y1, false),
-                (X1, Y0, false),
-                (Y0, X1, true),
-                (Y1, X0, true),
-            ]),
+            signed_products(&u, &v, [(X0, Y0, false), (Y0, X0, true)]),
+            signed_products(
+                &u,
+                &v,
+                [
+                    (X0, Y1, false),
+                    (X1, Y0, false),
+                    (Y0, X1, true),
+                    (Y1, X0, true),
+                ],
+            ),
             // u and v move alike when q and r are on one body
             if q.obj == r.obj {
                 Interval::point(0.0)
             } else {
-                sum2([(X1, Y1, false), (Y1, X1, true)])
+                signed_products(&u, &v, [(X1, Y1, false), (Y1, X1, true)])
             },
         ]
     };
