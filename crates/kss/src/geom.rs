@@ -158,7 +158,8 @@ impl BodyPolygon {
             .map(|(_, e)| e - exp)
             .max()
             .unwrap_or(0);
-        let (xs, ys, ivs): (Vec<Int>, Vec<Int>, Vec<[Interval; 2]>) = if widest <= 47 {
+        // (`narrow`: the integers as `i128`, kept for `small` below)
+        let (xs, ys, ivs, narrow): (Vec<Int>, Vec<Int>, Vec<[Interval; 2]>, _) = if widest <= 47 {
             let int = |(m, e): (i64, i64)| {
                 if m == 0 {
                     0
@@ -166,24 +167,23 @@ impl BodyPolygon {
                     i128::from(m) << (e - exp)
                 }
             };
-            let small: Vec<[i128; 2]> = parts.iter().map(|p| p.map(int)).collect();
+            let narrow: Vec<[i128; 2]> = parts.iter().map(|p| p.map(int)).collect();
             (
-                small.iter().map(|p| Int::from(p[0])).collect(),
-                small.iter().map(|p| Int::from(p[1])).collect(),
-                small.iter().map(|p| p.map(Interval::of_i128)).collect(),
+                narrow.iter().map(|p| Int::from(p[0])).collect(),
+                narrow.iter().map(|p| Int::from(p[1])).collect(),
+                narrow.iter().map(|p| p.map(Interval::of_i128)).collect(),
+                Some(narrow),
             )
         } else {
-            let ints: Vec<[Int; 2]> = parts
+            let ivs = parts
                 .iter()
                 .map(|p| p.map(|(m, e)| Int::from(m) << ((e - exp).max(0) as usize)))
-                .collect();
-            (
-                ints.iter().map(|p| p[0].clone()).collect(),
-                ints.iter().map(|p| p[1].clone()).collect(),
-                ints.iter()
-                    .map(|p| p.each_ref().map(Interval::of_int))
-                    .collect(),
-            )
+                .map(|[x, y]| {
+                    let iv = [Interval::of_int(&x), Interval::of_int(&y)];
+                    ((x, y), iv)
+                });
+            let ((xs, ys), ivs) = ivs.unzip();
+            (xs, ys, ivs, None)
         };
         #[cfg(debug_assertions)]
         {
@@ -222,10 +222,12 @@ impl BodyPolygon {
             .max()
             .unwrap_or(0);
         let small = (bits <= 100).then(|| {
-            xs.iter()
-                .zip(&ys)
-                .map(|(x, y)| [x, y].map(|c| i128::try_from(c).expect("below 2^100")))
-                .collect()
+            narrow.unwrap_or_else(|| {
+                xs.iter()
+                    .zip(&ys)
+                    .map(|(x, y)| [x, y].map(|c| i128::try_from(c).expect("below 2^100")))
+                    .collect()
+            })
         });
         let first_edges = small.as_deref().map_or([0, 0], first_edges_i128);
         let poly = BodyPolygon {
