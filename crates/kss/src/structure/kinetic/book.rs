@@ -513,6 +513,18 @@ fn due_in(
     }
 }
 
+/// The record of certificate `c`, owned by `o`, before it is queued.
+fn unscheduled(c: Cert, o: Owner) -> Scheduled {
+    Scheduled {
+        cert: c,
+        key: None,
+        owners: smallvec::smallvec![o],
+        fp: None,
+        popped: None,
+        idle: false,
+    }
+}
+
 impl Kinetic {
     pub(super) fn schedule_everything(
         &mut self,
@@ -616,9 +628,13 @@ impl Kinetic {
                 Some(old) if old.sign != c.sign => *old,
                 _ => c,
             };
-            let Some(id) = self.certs.id(&c.p) else {
-                mine.push(self.schedule_new(world, c, o, now));
-                continue;
+            let id = match self.certs.insert_new(unscheduled(c, o)) {
+                Ok(id) => {
+                    self.schedule_stored(world, c, id, now);
+                    mine.push(id);
+                    continue;
+                }
+                Err(id) => id,
             };
             let s = self.certs.at_mut(id).expect("indexed");
             // a certificate left without owners (a removal in progress)
@@ -664,14 +680,14 @@ impl Kinetic {
 
     /// Schedule certificate `c`, not yet known, for owner `o`: its id.
     pub(super) fn schedule_new(&mut self, world: &Geo, c: Cert, o: Owner, now: &Time) -> CertId {
-        let id = self.certs.insert(Scheduled {
-            cert: c,
-            key: None,
-            owners: smallvec::smallvec![o],
-            fp: None,
-            popped: None,
-            idle: false,
-        });
+        let id = self.certs.insert(unscheduled(c, o));
+        self.schedule_stored(world, c, id, now);
+        id
+    }
+
+    /// Schedule certificate `c`, just stored under `id` as [`unscheduled`]:
+    /// its failure time queued, its bodies' sets.
+    fn schedule_stored(&mut self, world: &Geo, c: Cert, id: CertId, now: &Time) {
         let (key, fp) = enqueue_in(&mut self.queue, world, (&c, id), now);
         let s = self.certs.at_mut(id).expect("just stored");
         (s.key, s.fp) = (key, fp);
@@ -681,7 +697,6 @@ impl Kinetic {
         if let Some(ids) = self.scheduled.as_mut() {
             ids.push(id);
         }
-        id
     }
 
     /// Whether the certificate on `p` (queued under `key`) can be failing at

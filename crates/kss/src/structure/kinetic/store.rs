@@ -64,6 +64,20 @@ impl CertStore {
         id
     }
 
+    /// Store `s` if its points have no certificate yet: `Ok` with its new
+    /// id; else `Err` with the id of the certificate on them (`s` is not
+    /// stored). One search of the index for both.
+    pub(super) fn insert_new(&mut self, s: Scheduled) -> Result<CertId, CertId> {
+        match self.index.entry(s.cert.p) {
+            std::collections::hash_map::Entry::Occupied(e) => Err(*e.get()),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                let id = self.slots.insert(s);
+                e.insert(id);
+                Ok(id)
+            }
+        }
+    }
+
     /// Take the certificate with id `id` out of the store.
     pub(super) fn remove(&mut self, id: CertId) -> Option<Scheduled> {
         let s = self.slots.remove(id)?;
@@ -135,5 +149,23 @@ mod tests {
         assert_eq!(store.len(), 2);
         assert_eq!(store.values().count(), 2);
         assert_eq!(store.keys().count(), 2);
+    }
+
+    #[test]
+    fn insert_new_stores_only_on_points_without_a_certificate() {
+        let mut store = CertStore::default();
+        let a = store.insert_new(rec(1)).expect("new points");
+        let mut again = rec(1);
+        again.owners = smallvec::smallvec![Owner::Tri(TriId(9))];
+        assert_eq!(store.insert_new(again), Err(a));
+        assert_eq!(store.len(), 1);
+        assert_eq!(store.at(a).map(|s| s.owners[0]), Some(Owner::Tri(TriId(1))));
+        let b = store.insert_new(rec(2)).expect("new points");
+        assert_ne!(a, b);
+        assert_eq!(store.id(&store.at(b).expect("stored").cert.p), Some(b));
+        assert!(store.remove(a).is_some());
+        let c = store.insert_new(rec(1)).expect("the points are free again");
+        assert_ne!(c, a);
+        assert_eq!(store.len(), 2);
     }
 }
