@@ -12,6 +12,12 @@ impl Kss {
     /// every polygon edge exactly once.
     pub fn check_topology(&self, world: &Geo) -> Result<(), StructureError> {
         let k = world.bodies().iter().filter(|b| b.alive).count();
+        if k != world.alive_count() {
+            return Err(StructureError::Invariant(format!(
+                "{k} bodies alive, the world counts {}",
+                world.alive_count()
+            )));
+        }
         if k < 2 {
             return if self.tris.is_empty() && self.corrs.is_empty() {
                 Ok(())

@@ -226,7 +226,7 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
             edges.push([base + x, base + (x + 1) % n]);
         }
     }
-    let alive = world.bodies().iter().filter(|b| b.alive).count();
+    let alive = world.alive_count();
     if alive < 2 {
         return Ok(Kss::default());
     }

@@ -169,7 +169,7 @@ impl Kss {
         let t = now
             .as_rational()
             .ok_or_else(|| StructureError::Local("an irrational instant".into()))?;
-        let alive = world.bodies().iter().filter(|b| b.alive).count();
+        let alive = world.alive_count();
         if alive < 2 {
             return Err(StructureError::Local(format!("{alive} bodies stay")));
         }

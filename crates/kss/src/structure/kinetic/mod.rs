@@ -349,7 +349,7 @@ impl Kinetic {
         // every alive polygon is in a structure of the right size: one built
         // at an instant where polygons overlap lacks some (a cheap check;
         // the rebuilds for just after an instant try an earlier one then)
-        let n = world.bodies().iter().filter(|b| b.alive).count();
+        let n = world.alive_count();
         if n >= 2 && (kss.tris.len() != 2 * n - 2 || kss.corrs.len() != 3 * n - 3) {
             return Err(StructureError::Build(format!(
                 "{} partition triangles and {} corridors for {n} polygons: polygons overlap at t = {}",

@@ -272,7 +272,7 @@ impl Kinetic {
         if self.instant.broken.is_some() {
             return Ok(SetRemoval::Failed);
         }
-        if world.bodies().iter().filter(|x| x.alive).count() < 2 {
+        if world.alive_count() < 2 {
             // nothing stays to separate: the empty structure
             self.replace_with(Kinetic::default());
             self.tally.local_removals += set.len() as u64;
