@@ -87,12 +87,16 @@ pub(super) struct Vertices<'g, 'w> {
     /// Each vertex's midpoint and radius at `t`, or [`UNPLACED`] (whose
     /// filters never decide) where it has none.
     mids: Vec<MidRad>,
-    exact: Vec<OnceCell<Point>>,
+    /// Each vertex's exact position at `t`, computed where a filter cannot
+    /// decide (boxed: most are never computed, and an empty cell is one
+    /// word rather than a point's four integers).
+    exact: Vec<OnceCell<Box<Point>>>,
     shrink: bool,
     /// The centroids at `t` of the bodies met so far (for `shrink`; a map,
     /// so that a local triangulation costs its own size, not the scene's).
     centroids: RefCell<FastMap<u32, Point>>,
-    towards: Vec<OnceCell<Point>>,
+    /// Each vertex's offset towards its body's centroid (boxed, as `exact`).
+    towards: Vec<OnceCell<Box<Point>>>,
 }
 
 impl<'g, 'w> Vertices<'g, 'w> {
@@ -118,9 +122,11 @@ impl<'g, 'w> Vertices<'g, 'w> {
 
     fn exact(&self, i: usize) -> &Point {
         self.exact[i].get_or_init(|| {
-            self.world
-                .position(self.atts[i], self.t)
-                .expect("a vertex on a body")
+            Box::new(
+                self.world
+                    .position(self.atts[i], self.t)
+                    .expect("a vertex on a body"),
+            )
         })
     }
 
@@ -139,7 +145,7 @@ impl<'g, 'w> Vertices<'g, 'w> {
                     body.traj.position_at(self.t).add(body.centroid())
                 })
                 .clone();
-            c.sub(self.exact(i))
+            Box::new(c.sub(self.exact(i)))
         })
     }
 
