@@ -139,27 +139,27 @@ impl<T> Slots<T> {
 
 /// The bodies an entry lies on.
 trait OnBodies {
-    /// Calls `f` with each body the entry lies on (a body may repeat).
-    fn each_body(&self, f: &mut dyn FnMut(BodyId));
+    /// Each body the entry lies on (a body may repeat), `None` for `ω`.
+    fn bodies(&self) -> [Option<BodyId>; 3];
+}
+
+/// The body of object `o`, if it is one.
+fn body_of(o: Obj) -> Option<BodyId> {
+    match o {
+        Obj::Body(b) => Some(b),
+        Obj::Omega => None,
+    }
 }
 
 impl OnBodies for PartitionTriangle {
-    fn each_body(&self, f: &mut dyn FnMut(BodyId)) {
-        for c in &self.c {
-            if let Obj::Body(b) = c.obj {
-                f(b);
-            }
-        }
+    fn bodies(&self) -> [Option<BodyId>; 3] {
+        self.c.map(|c| body_of(c.obj))
     }
 }
 
 impl OnBodies for Corridor {
-    fn each_body(&self, f: &mut dyn FnMut(BodyId)) {
-        for o in [self.a, self.b] {
-            if let Obj::Body(b) = o {
-                f(b);
-            }
-        }
+    fn bodies(&self) -> [Option<BodyId>; 3] {
+        [body_of(self.a), body_of(self.b), None]
     }
 }
 
@@ -190,13 +190,15 @@ impl Lists {
                 self.of.clear();
                 self.clean.clear();
                 for (id, x) in slots.iter().enumerate() {
-                    x.each_body(&mut |b| self.add(b, id as u32));
+                    for b in x.bodies().into_iter().flatten() {
+                        self.add(b, id as u32);
+                    }
                 }
             }
             Some(ids) => {
                 for id in ids {
                     if let Some(x) = slots.get(id as usize) {
-                        x.each_body(&mut |b| {
+                        for b in x.bodies().into_iter().flatten() {
                             self.add(b, id);
                             // (a list that doubled since it was last
                             // filtered is filtered now, so that no list
@@ -204,7 +206,7 @@ impl Lists {
                             if self.of[b.index()].len() > 2 * self.clean[b.index()].max(16) {
                                 self.filter(slots, b);
                             }
-                        });
+                        }
                     }
                 }
             }
@@ -221,11 +223,9 @@ impl Lists {
         list.sort_unstable();
         list.dedup();
         list.retain(|&id| {
-            slots.get(id as usize).is_some_and(|x| {
-                let mut on = false;
-                x.each_body(&mut |y| on |= y == b);
-                on
-            })
+            slots
+                .get(id as usize)
+                .is_some_and(|x| x.bodies().contains(&Some(b)))
         });
         self.clean[b.index()] = list.len();
     }
