@@ -427,25 +427,59 @@ fn insertion_order(n: usize, p: &impl Predicates) -> Vec<usize> {
 }
 
 /// The position of cell `(x, y)` (each below 2^16) along a Hilbert curve
-/// through the 2^16 × 2^16 grid.
-fn hilbert(mut x: u32, mut y: u32) -> u64 {
-    const SIDE: u32 = 1 << 16;
+/// through the 2^16 × 2^16 grid: one base-4 digit per bit of the
+/// coordinates, from the top, each read with the coordinates turned as the
+/// digits above left them (swapped, complemented, or both), four bits of
+/// each at a time from [`HILBERT_CHUNKS`].
+fn hilbert(x: u32, y: u32) -> u64 {
     let mut d = 0u64;
-    let mut s = SIDE / 2;
-    while s > 0 {
-        let rx = u64::from(x & s != 0);
-        let ry = u64::from(y & s != 0);
-        d += u64::from(s) * u64::from(s) * ((3 * rx) ^ ry);
-        if ry == 0 {
-            if rx == 1 {
-                x = SIDE - 1 - x;
-                y = SIDE - 1 - y;
-            }
-            std::mem::swap(&mut x, &mut y);
-        }
-        s /= 2;
+    let mut state = 0usize;
+    for shift in [12, 8, 4, 0] {
+        let xy = ((((x >> shift) & 15) << 4) | ((y >> shift) & 15)) as usize;
+        let (digits, next) = HILBERT_CHUNKS[state][xy];
+        d = (d << 8) | u64::from(digits);
+        state = usize::from(next);
     }
     d
+}
+
+/// For a turn of the coordinates (bit 0: swapped, bit 1: complemented) and
+/// four bits of each (`x` above `y`), the four digits of [`hilbert`] they
+/// give (two bits each, the first above) and the turn after them.
+const HILBERT_CHUNKS: [[(u8, u8); 256]; 4] = hilbert_chunks();
+
+const fn hilbert_chunks() -> [[(u8, u8); 256]; 4] {
+    let mut table = [[(0u8, 0u8); 256]; 4];
+    let mut turn = 0;
+    while turn < 4 {
+        let mut xy = 0;
+        while xy < 256 {
+            let (mut swap, mut flip) = (turn & 1 != 0, turn & 2 != 0);
+            let mut digits = 0u8;
+            let mut bit = 4;
+            while bit > 0 {
+                bit -= 1;
+                let (mut rx, mut ry) = ((xy >> (4 + bit)) & 1, (xy >> bit) & 1);
+                if flip {
+                    (rx, ry) = (rx ^ 1, ry ^ 1);
+                }
+                if swap {
+                    (rx, ry) = (ry, rx);
+                }
+                digits = (digits << 2) | ((3 * rx) ^ ry) as u8;
+                // (complementing both and swapping commute: a turn is the
+                // two flags, whatever the order they were set in)
+                if ry == 0 {
+                    flip ^= rx == 1;
+                    swap = !swap;
+                }
+            }
+            table[turn][xy] = (digits, (swap as u8) | ((flip as u8) << 1));
+            xy += 1;
+        }
+        turn += 1;
+    }
+    table
 }
 
 /// Where a new vertex lies in the mesh.
@@ -929,6 +963,56 @@ mod tests {
     /// about 3: the number of circle tests stays linear in the vertex
     /// count (inserted along a line, they numbered in its square), and the
     /// result is a valid constrained triangulation.
+    /// The Hilbert key by table, four bits at a time, is the textbook
+    /// one computed a bit at a time, on the grid's corners and edges and
+    /// on random cells.
+    #[test]
+    fn the_hilbert_key_by_table_is_the_bitwise_one() {
+        fn bitwise(mut x: u32, mut y: u32) -> u64 {
+            const SIDE: u32 = 1 << 16;
+            let mut d = 0u64;
+            let mut s = SIDE / 2;
+            while s > 0 {
+                let rx = u64::from(x & s != 0);
+                let ry = u64::from(y & s != 0);
+                d += u64::from(s) * u64::from(s) * ((3 * rx) ^ ry);
+                if ry == 0 {
+                    if rx == 1 {
+                        x = SIDE - 1 - x;
+                        y = SIDE - 1 - y;
+                    }
+                    std::mem::swap(&mut x, &mut y);
+                }
+                s /= 2;
+            }
+            d
+        }
+        let mut rng = crate::rng::Rng::new(17);
+        let edges = [
+            0, 1, 2, 15, 16, 255, 256, 4095, 4096, 32767, 32768, 65534, 65535,
+        ];
+        let mut cells: Vec<(u32, u32)> = edges
+            .iter()
+            .flat_map(|&x| edges.iter().map(move |&y| (x, y)))
+            .collect();
+        cells.extend((0..100_000).map(|_| (rng.below(1 << 16) as u32, rng.below(1 << 16) as u32)));
+        for (x, y) in cells {
+            assert_eq!(hilbert(x, y), bitwise(x, y), "cell ({x}, {y})");
+        }
+        // (consecutive keys are neighbouring cells: a curve)
+        let mut at = vec![(0u32, 0u32); 1 << 12];
+        for x in 0..64 {
+            for y in 0..64 {
+                let d = hilbert(x << 10, y << 10) >> 20;
+                at[d as usize] = (x, y);
+            }
+        }
+        for w in at.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            assert_eq!(a.0.abs_diff(b.0) + a.1.abs_diff(b.1), 1, "{a:?} then {b:?}");
+        }
+    }
+
     #[test]
     fn two_large_polygons_across_a_small_gap_take_linear_work() {
         struct Counting {
