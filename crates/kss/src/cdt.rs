@@ -733,7 +733,15 @@ fn insert_segment(
     if mesh.find_either(u, v).is_some() {
         return Ok(Vec::new());
     }
-    let side = |w: u32| p.orient(u as usize, v as usize, w as usize);
+    // (an end of the segment is on its line: no predicate asked, which
+    // could only answer zero after its filter, exactly)
+    let side = |w: u32| {
+        if w == u || w == v {
+            Sign::Zero
+        } else {
+            p.orient(u as usize, v as usize, w as usize)
+        }
+    };
     let on = |w: u32| {
         Other(CdtError::VertexOnSegment(
             u as usize, v as usize, w as usize,
