@@ -41,6 +41,14 @@ pub struct BenchArgs {
     /// Time budget per cell in seconds (default 600, quick 5).
     #[arg(long, value_name = "SECONDS", value_parser = parse_budget)]
     pub budget: Option<f64>,
+    /// Run each cell N times, the methods of a workload taking turns round
+    /// after round (a drift of the machine's speed falls on all of them),
+    /// and report each cell's run of median wall time; the report lists
+    /// every run's wall time. A cell whose run fails or goes over budget
+    /// is not run again and reports that run.
+    #[arg(long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub repeat: u32,
     /// Also time the construction of the library's structures: each of
     /// their cells first runs the structure up to the smallest positive
     /// double (world, validation, structure and certificates; no events),

@@ -201,6 +201,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Error> {
     }
     config.workloads = bench_workloads(args)?;
     config.build_time = args.build_time;
+    config.repeat = args.repeat;
     if !args.methods.is_empty() {
         config.methods = args
             .methods
@@ -228,20 +229,25 @@ pub fn bench(args: &BenchArgs) -> Result<(), Error> {
             || earlier.workloads != workloads
             || earlier.budget_seconds != config.budget_seconds
             || earlier.quick != config.quick
+            || earlier.repeat != config.repeat
             || (timed_build && built != config.build_time)
         {
             return Err(Error::new(
                 ErrorKind::Usage,
                 format!(
-                    "--resume: {} was a run of {} on {} workloads ({} …) at {} s per cell{}{}; \
-                     give the same methods, workloads, budget, mode and --build-time",
+                    "--resume: {} was a run of {} on {} workloads ({} …) at {} s per cell{}{}{}; \
+                     give the same methods, workloads, budget, mode, --repeat and --build-time",
                     file.display(),
                     earlier.methods.join(","),
                     earlier.workloads.len(),
                     earlier.workloads.first().map_or("", String::as_str),
                     earlier.budget_seconds,
                     if earlier.quick { " (quick)" } else { "" },
-                    if built { " with --build-time" } else { "" }
+                    if built { " with --build-time" } else { "" },
+                    match earlier.repeat {
+                        1 => String::new(),
+                        n => format!(", each cell {n} times"),
+                    }
                 ),
             ));
         }
@@ -327,9 +333,13 @@ pub fn bench(args: &BenchArgs) -> Result<(), Error> {
             total = cells;
             bar.set_length(cells as u64);
             say(format!(
-                "kss-bench: {} workloads x {} methods, budget {} s per cell, results in {}",
+                "kss-bench: {} workloads x {} methods{}, budget {} s per cell, results in {}",
                 config.workloads.len(),
                 config.methods.len(),
+                match config.repeat {
+                    1 => String::new(),
+                    n => format!(" x {n} runs"),
+                },
                 config.budget_seconds,
                 args.out.display()
             ));
@@ -338,7 +348,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Error> {
             bar.set_message(format!("{workload} {method}"));
         }
         Progress::Resumed { workload } => {
-            let n = config.methods.len();
+            let n = config.methods.len() * config.repeat as usize;
             done += n;
             bar.inc(n as u64);
             say(format!(

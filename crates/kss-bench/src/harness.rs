@@ -110,6 +110,11 @@ pub struct CellOutcome {
     /// the measured run in the same process.
     #[serde(default)]
     pub build_seconds: Option<f64>,
+    /// With [`Config::repeat`] above 1: the wall time of every run of the
+    /// cell, in the order they ran (the outcome is the run of median wall
+    /// time, [`median_run`]); empty for a cell run once.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wall_runs: Vec<f64>,
 }
 
 impl CellOutcome {
@@ -124,6 +129,29 @@ impl CellOutcome {
             peak_heap_bytes: None,
             allocations: None,
             build_seconds: None,
+            wall_runs: Vec::new(),
+        }
+    }
+}
+
+/// The outcome that a cell run several times ([`Config::repeat`]) reports:
+/// the first run that did not finish (a cell that fails or goes over
+/// budget once is not run again), else the run of median wall time (the
+/// lower of the two middle ones for an even count) with every run's wall
+/// time in [`CellOutcome::wall_runs`]. A single run as it is.
+pub fn median_run(runs: &[CellOutcome]) -> CellOutcome {
+    if let Some(bad) = runs.iter().find(|o| o.status != Status::Ok) {
+        return bad.clone();
+    }
+    match runs {
+        [] => CellOutcome::not_run(Status::Error("no run".into())),
+        [one] => one.clone(),
+        _ => {
+            let mut order: Vec<&CellOutcome> = runs.iter().collect();
+            order.sort_by(|a, b| a.wall_seconds.total_cmp(&b.wall_seconds));
+            let mut median = order[(runs.len() - 1) / 2].clone();
+            median.wall_runs = runs.iter().map(|o| o.wall_seconds).collect();
+            median
         }
     }
 }
@@ -164,6 +192,14 @@ pub struct BenchRun {
     /// their first cell.
     #[serde(default)]
     pub resumes: u32,
+    /// How many times each cell ran ([`Config::repeat`]; the largest of
+    /// the runs merged into a report).
+    #[serde(default = "one")]
+    pub repeat: u32,
+}
+
+fn one() -> u32 {
+    1
 }
 
 impl BenchRun {
@@ -197,6 +233,10 @@ pub struct Config {
     /// [`Progress::WorkloadDone`]): the workloads it finished with every
     /// method are taken from it as they are, the others run.
     pub resume: Option<BenchRun>,
+    /// How many times each cell runs (at least 1): the methods of a
+    /// workload take turns, round after round, and each cell reports its
+    /// run of median wall time ([`median_run`]).
+    pub repeat: u32,
 }
 
 impl Config {
@@ -216,6 +256,7 @@ impl Config {
             events_dir: out.join("events"),
             build_time: false,
             resume: None,
+            repeat: 1,
         }
     }
 }
@@ -390,6 +431,7 @@ pub fn run_cell(
             peak_heap_bytes: heap.map(|(b, a)| a.peak_bytes - b.live_bytes),
             allocations: heap.map(|(_, a)| a.allocations),
             build_seconds,
+            wall_runs: Vec::new(),
         },
         events,
     )
@@ -518,8 +560,9 @@ pub fn run(
 ) -> std::io::Result<BenchRun> {
     let started = Instant::now();
     fs::create_dir_all(&config.events_dir)?;
+    let repeat = config.repeat.max(1);
     on_progress(Progress::Start {
-        cells: config.workloads.len() * config.methods.len(),
+        cells: config.workloads.len() * config.methods.len() * repeat as usize,
     });
     // per (series, method): the work of the last size run and its wall time,
     // or over budget
@@ -533,6 +576,7 @@ pub fn run(
         cells: Vec::new(),
         total_seconds: 0.0,
         resumes: 0,
+        repeat,
     };
     let earlier = config.resume.as_ref();
     let earlier_seconds = earlier.map_or(0.0, |r| r.total_seconds);
@@ -580,69 +624,94 @@ pub fn run(
             continue;
         }
         let mut events: HashMap<String, Vec<Event>> = HashMap::new();
-        let mut cells = Vec::new();
-        for &method in &config.methods {
-            let mname = method.name();
-            on_progress(Progress::CellStart {
-                workload: &wname,
-                method: &mname,
-            });
-            let key = (series.clone(), mname.clone());
-            let work = cell_work(workload, method);
-            let predicted_over = history.get(&key).is_some_and(|&(w0, wall, over)| {
-                over || wall * (work / w0) > 2.0 * config.budget_seconds
-            });
-            let outcome = if workload.vertices() > config.max_vertices {
-                CellOutcome::not_run(Status::SkippedMemory)
-            } else if predicted_over {
-                CellOutcome::not_run(Status::SkippedBudget)
-            } else {
-                let file = events_path(&config.events_dir, &wname, &mname);
-                let _ = fs::remove_file(&file);
-                match executor {
-                    Executor::InProcess => {
-                        let (o, ev) = run_cell(
+        // each method's runs, round after round (one round unless
+        // `repeat`): a method whose run did not finish is not run again
+        let mut runs: Vec<Vec<CellOutcome>> = vec![Vec::new(); config.methods.len()];
+        for _round in 0..repeat {
+            for (mi, &method) in config.methods.iter().enumerate() {
+                if runs[mi].last().is_some_and(|o| o.status != Status::Ok) {
+                    continue;
+                }
+                let mname = method.name();
+                on_progress(Progress::CellStart {
+                    workload: &wname,
+                    method: &mname,
+                });
+                let key = (series.clone(), mname.clone());
+                let work = cell_work(workload, method);
+                let predicted_over = history.get(&key).is_some_and(|&(w0, wall, over)| {
+                    over || wall * (work / w0) > 2.0 * config.budget_seconds
+                });
+                let outcome = if workload.vertices() > config.max_vertices {
+                    CellOutcome::not_run(Status::SkippedMemory)
+                } else if predicted_over && runs[mi].is_empty() {
+                    CellOutcome::not_run(Status::SkippedBudget)
+                } else {
+                    let file = events_path(&config.events_dir, &wname, &mname);
+                    let _ = fs::remove_file(&file);
+                    match executor {
+                        Executor::InProcess => {
+                            let (o, ev) = run_cell(
+                                workload,
+                                method,
+                                config.budget_seconds,
+                                false,
+                                config.build_time,
+                            );
+                            if o.status == Status::Ok {
+                                write_events(&file, &ev)?;
+                            }
+                            o
+                        }
+                        Executor::Subprocess { exe, args } => run_child(
+                            exe,
+                            args,
                             workload,
                             method,
                             config.budget_seconds,
-                            false,
+                            &file,
                             config.build_time,
-                        );
-                        if o.status == Status::Ok {
-                            write_events(&file, &ev)?;
-                        }
-                        o
+                        ),
                     }
-                    Executor::Subprocess { exe, args } => run_child(
-                        exe,
-                        args,
-                        workload,
-                        method,
-                        config.budget_seconds,
-                        &file,
-                        config.build_time,
-                    ),
+                };
+                if outcome.status == Status::Ok {
+                    // (the events of the last run: every run of a method
+                    // reports the same)
+                    let file = events_path(&config.events_dir, &wname, &mname);
+                    events.insert(mname.clone(), read_events(&file)?);
+                } else {
+                    events.remove(&mname);
                 }
-            };
+                on_progress(Progress::CellDone(&CellResult {
+                    workload: wname.clone(),
+                    method: mname,
+                    outcome: outcome.clone(),
+                    comparison: None,
+                }));
+                runs[mi].push(outcome);
+            }
+        }
+        let mut cells = Vec::new();
+        for (mi, &method) in config.methods.iter().enumerate() {
+            let mname = method.name();
+            let outcome = median_run(&runs[mi]);
+            let key = (series.clone(), mname.clone());
+            let work = cell_work(workload, method);
             match outcome.status {
                 Status::Ok => {
                     history.insert(key, (work, outcome.wall_seconds, false));
-                    let file = events_path(&config.events_dir, &wname, &mname);
-                    events.insert(mname.clone(), read_events(&file)?);
                 }
                 Status::Budget | Status::SkippedBudget => {
                     history.insert(key, (work, f64::INFINITY, true));
                 }
                 _ => {}
             }
-            let cell = CellResult {
+            cells.push(CellResult {
                 workload: wname.clone(),
                 method: mname,
                 outcome,
                 comparison: None,
-            };
-            on_progress(Progress::CellDone(&cell));
-            cells.push(cell);
+            });
         }
         // the reference: brute if it ran, else the first exact method that did
         let reference = config

@@ -314,7 +314,7 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
     let _ = writeln!(
         s,
         "Mode: {}; time budget {} per cell; whole run {}{}. Every method ran on the same \
-         machine in this one run; each cell in its own process, one at a time.\n",
+         machine in this one run; each cell in its own process, one at a time{}.\n",
         if run.quick {
             "quick (tiny workloads; CI checks only that it runs)"
         } else {
@@ -329,6 +329,14 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
                  the workloads finished before were kept, the one interrupted ran again \
                  from its first cell)",
                 if n == 1 { "" } else { "s" }
+            ),
+        },
+        match run.repeat {
+            1 => String::new(),
+            n => format!(
+                "; each cell {n} times, the methods of a workload taking turns round after \
+                 round, reporting its run of median wall time (every run: \
+                 [Repeated runs](#repeated-runs))"
             ),
         }
     );
@@ -508,6 +516,7 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
             );
         }
     }
+    repeated_section(&mut s, run);
     let _ = writeln!(s, "\n## Workloads and methods\n");
     let _ = writeln!(
         s,
@@ -541,6 +550,49 @@ pub fn markdown(run: &BenchRun, m: &Machine) -> String {
          - Plots: `*.svg` beside this file."
     );
     s
+}
+
+/// The wall time of every run of the cells run more than once
+/// ([`crate::harness::Config::repeat`]): the median reported, the fastest
+/// and slowest, and each run in the order they ran. Nothing when no cell
+/// ran twice.
+fn repeated_section(s: &mut String, run: &BenchRun) {
+    let cells: Vec<&CellResult> = run
+        .cells
+        .iter()
+        .filter(|c| c.outcome.wall_runs.len() > 1)
+        .collect();
+    if cells.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "\n## Repeated runs\n");
+    let _ = writeln!(
+        s,
+        "The wall time of each run of a cell, in the order they ran; a cell reports \
+         its run of median wall time (the lower middle one of an even count).\n"
+    );
+    let _ = writeln!(
+        s,
+        "| workload | method | median | fastest | slowest | runs |\n| --- | --- | ---: | ---: | ---: | --- |"
+    );
+    for c in cells {
+        let runs = &c.outcome.wall_runs;
+        let lo = runs.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = runs.iter().copied().fold(0.0, f64::max);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} |",
+            c.workload,
+            method_label(&c.method),
+            human_seconds(c.outcome.wall_seconds),
+            human_seconds(lo),
+            human_seconds(hi),
+            runs.iter()
+                .map(|&w| human_seconds(w))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
 }
 
 /// The size a workload's series grows with, and its letter (`n` for
@@ -1512,6 +1564,7 @@ pub fn merge(runs: Vec<BenchRun>) -> Option<BenchRun> {
         out.budget_seconds = out.budget_seconds.max(r.budget_seconds);
         out.total_seconds += r.total_seconds;
         out.resumes += r.resumes;
+        out.repeat = out.repeat.max(r.repeat);
         for w in r.workloads {
             if !out.workloads.contains(&w) {
                 out.workloads.push(w);
@@ -1632,6 +1685,7 @@ mod tests {
                 peak_heap_bytes: None,
                 allocations: None,
                 build_seconds: None,
+                wall_runs: Vec::new(),
             },
             comparison: None,
         }
@@ -1658,6 +1712,7 @@ mod tests {
             ],
             total_seconds: 8.0,
             resumes: 0,
+            repeat: 1,
         };
         let md = markdown(&run, &machine());
         let section = &md[md.find("## Cost per event").expect("the section")..];

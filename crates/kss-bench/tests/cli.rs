@@ -118,6 +118,65 @@ fn child_cells_report_their_heap_and_allocations() {
 }
 
 #[test]
+fn repeated_cells_report_their_median_run_and_every_run() {
+    let dir = temp_dir();
+    let out = dir.join("run");
+    let o = run_bench(&[
+        "--quick",
+        "--methods",
+        "plain,parry-toi",
+        "--workload",
+        "flypast-n16-r1e1",
+        "--repeat",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // (each method ran three times, taking turns)
+    let err = stderr(&o);
+    assert_eq!(err.matches("flypast-n16-r1e1 plain:").count(), 3, "{err}");
+    assert_eq!(
+        err.matches("flypast-n16-r1e1 parry-toi:").count(),
+        3,
+        "{err}"
+    );
+    let (run, _) = kss_bench::report::read_runs(&[out.join("bench.json")]).unwrap();
+    assert_eq!(run.repeat, 3);
+    for m in ["plain", "parry-toi"] {
+        let c = run.cell("flypast-n16-r1e1", m).expect("the cell");
+        let runs = &c.outcome.wall_runs;
+        assert_eq!(runs.len(), 3, "{m}: {runs:?}");
+        let mut sorted = runs.clone();
+        sorted.sort_by(f64::total_cmp);
+        assert_eq!(
+            c.outcome.wall_seconds, sorted[1],
+            "{m}: the median of {runs:?}"
+        );
+        // the exact method's events are still compared with the reference
+        assert!(c.comparison.is_some(), "{m}");
+    }
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("each cell 3 times"), "{md}");
+    assert!(md.contains("## Repeated runs"), "{md}");
+    // a checkpoint of a run repeated three times is not resumed once
+    let o = run_bench(&[
+        "--quick",
+        "--methods",
+        "plain,parry-toi",
+        "--workload",
+        "flypast-n16-r1e1",
+        "--resume",
+        out.join("checkpoint.json").to_str().unwrap(),
+        "--out",
+        dir.join("other").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--repeat"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn bench_report_from_keeps_only_the_workloads_named() {
     // two tiny workloads with the reference alone, then a report of one
     let dir = temp_dir();

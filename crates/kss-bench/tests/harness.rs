@@ -181,6 +181,7 @@ fn merged_runs_keep_the_later_cell() {
             peak_heap_bytes: None,
             allocations: None,
             build_seconds: None,
+            wall_runs: Vec::new(),
         },
         comparison: None,
     };
@@ -193,6 +194,7 @@ fn merged_runs_keep_the_later_cell() {
         cells,
         total_seconds: 2.0,
         resumes: 0,
+        repeat: 1,
     };
     let a = run(
         &["flypast-n16-r1e3", "flypast-n64-r1e3"],
@@ -286,4 +288,47 @@ fn an_interrupted_run_resumes_from_its_checkpoint() {
     let md = kss_bench::report::markdown(&again, &kss_bench::report::machine());
     assert!(md.contains("resumed 1 time "), "{md}");
     let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_cell_run_several_times_reports_its_median_run() {
+    use kss_bench::harness::{median_run, CellOutcome};
+    let run = |status: Status, wall: f64, events: u64| CellOutcome {
+        status,
+        wall_seconds: wall,
+        setup_seconds: 0.0,
+        sim_seconds: 1.0,
+        counters: kss_bench::Counters {
+            events,
+            ..Default::default()
+        },
+        peak_rss_kib: None,
+        peak_heap_bytes: Some(events),
+        allocations: None,
+        build_seconds: None,
+        wall_runs: Vec::new(),
+    };
+    // one run: as it is
+    let one = median_run(&[run(Status::Ok, 2.0, 7)]);
+    assert_eq!((one.wall_seconds, one.wall_runs.len()), (2.0, 0));
+    // three: the middle one, whole (its counters and heap), with every wall
+    let m = median_run(&[
+        run(Status::Ok, 3.0, 1),
+        run(Status::Ok, 1.0, 2),
+        run(Status::Ok, 2.0, 3),
+    ]);
+    assert_eq!(m.wall_seconds, 2.0);
+    assert_eq!((m.counters.events, m.peak_heap_bytes), (3, Some(3)));
+    assert_eq!(m.wall_runs, vec![3.0, 1.0, 2.0]);
+    // four: the lower middle one
+    let m = median_run(&[
+        run(Status::Ok, 4.0, 1),
+        run(Status::Ok, 1.0, 2),
+        run(Status::Ok, 3.0, 3),
+        run(Status::Ok, 2.0, 4),
+    ]);
+    assert_eq!(m.wall_seconds, 2.0);
+    // a run that did not finish is what the cell reports
+    let m = median_run(&[run(Status::Ok, 1.0, 1), run(Status::Budget, 9.0, 0)]);
+    assert_eq!(m.status, Status::Budget);
 }
