@@ -966,14 +966,10 @@ mod tests {
         }
     }
 
-    /// Two polygons of 3000 vertices each (regular ones rounded to the
-    /// grid, on circles of radius 10^7) facing each other across a gap of
-    /// about 3: the number of circle tests stays linear in the vertex
-    /// count (inserted along a line, they numbered in its square), and the
-    /// result is a valid constrained triangulation.
     /// The Hilbert key by table, four bits at a time, is the textbook
     /// one computed a bit at a time, on the grid's corners and edges and
-    /// on random cells.
+    /// on random cells; and on a 64 × 64 grid of cells, consecutive keys
+    /// are neighbouring cells.
     #[test]
     fn the_hilbert_key_by_table_is_the_bitwise_one() {
         fn bitwise(mut x: u32, mut y: u32) -> u64 {
@@ -1021,6 +1017,11 @@ mod tests {
         }
     }
 
+    /// Two polygons of 3000 vertices each (regular ones rounded to the
+    /// grid, on circles of radius 10^7) facing each other across a gap of
+    /// about 3: the number of circle tests stays linear in the vertex
+    /// count (inserted along a line, they numbered in its square), and the
+    /// result is a valid constrained triangulation.
     #[test]
     fn two_large_polygons_across_a_small_gap_take_linear_work() {
         struct Counting {
