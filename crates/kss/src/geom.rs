@@ -798,6 +798,55 @@ fn sign_beyond(v: f64, bound: f64) -> Option<Sign> {
     }
 }
 
+/// A bound for [`orient_in_box`] over a set of points: every midpoint's
+/// coordinates at most `m` in absolute value less the largest radius `r`
+/// (`m` bounds the points within the radii too), or infinite where none is
+/// usable (a non-finite midpoint or radius: then nothing is decided).
+///
+/// With `u = 2r + 2εm` (a difference of two midpoints computed in f64 is
+/// within `u` of the difference of any two points within their radii) and
+/// every difference at most `2m(1 + ε)`, each of the two products of the
+/// orientation is within `(2m(1 + ε) + 2m)·u` of the exact one, rounding a
+/// product adds at most `ε(2m(1 + ε))²` and the subtraction at most
+/// `ε·2(2m(1 + ε))²(1 + ε)`: together at most `8.00001·m·u + 16.0001·ε·m²`.
+/// The bound is that, times `1 + 2^-20` for its own rounding, plus `TINY`
+/// for underflow; infinite where a product could overflow.
+pub(crate) fn orient_box_bound(mids: &[MidRad]) -> f64 {
+    let (mut m, mut r) = (0.0f64, 0.0f64);
+    for p in mids {
+        if !(p.x.is_finite() && p.y.is_finite() && p.r.is_finite()) {
+            return f64::INFINITY;
+        }
+        m = m.max(p.x.abs()).max(p.y.abs());
+        r = r.max(p.r);
+    }
+    let m = (m + r) * (1.0 + 4.0 * EPS);
+    let u = (2.0 * r + 2.0 * EPS * m) * (1.0 + 4.0 * EPS);
+    let bound = (8.00001 * m * u + 16.0001 * EPS * m * m) * (1.0 + 1.0 / 1048576.0) + TINY;
+    // (and no product of two differences overflows)
+    if (16.0 * m * m).is_finite() {
+        bound
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The sign of `orient(u, v, w)` for any three points within the radii of
+/// `u`, `v`, `w`, decided by one comparison with `bound`, an
+/// [`orient_box_bound`] of a set that holds the three; `None` (undecided)
+/// where the f64 value is within the bound, or for a zero.
+#[inline]
+pub(crate) fn orient_in_box(u: MidRad, v: MidRad, w: MidRad, bound: f64) -> Option<Sign> {
+    let det = (v.x - u.x) * (w.y - u.y) - (v.y - u.y) * (w.x - u.x);
+    if det > bound {
+        Some(Sign::Positive)
+    } else if det < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
+    }
+}
+
 /// The sign of `orient(u, v, w)` for any three points within the radii of
 /// `u`, `v`, `w`, if the f64 evaluation at the midpoints with its error
 /// bound decides it and it is not zero (the cheap first filter of the
@@ -948,6 +997,67 @@ impl Bounded {
             v,
             e: self.e + o.e + EPS * v.abs(),
         }
+    }
+}
+
+/// A bound for [`in_circle_in_box`] over a set of points: the bound of
+/// [`in_circle_static`] with its permanent, its largest difference and its
+/// radii replaced by what they can be at most for any four points of the
+/// set (every midpoint's coordinates at most `m` less the largest radius
+/// `r` in absolute value, every difference computed in f64 at most
+/// `D = 2m(1 + ε)`, the permanent at most `12·D⁴`, `δ` at most `2r + 2εD`),
+/// which only makes it larger; times `1 + 2^-20` for its own rounding.
+/// Infinite where none is usable (a non-finite midpoint or radius) or a
+/// term could overflow.
+pub(crate) fn in_circle_box_bound(mids: &[MidRad]) -> f64 {
+    let (mut m, mut r) = (0.0f64, 0.0f64);
+    for p in mids {
+        if !(p.x.is_finite() && p.y.is_finite() && p.r.is_finite()) {
+            return f64::INFINITY;
+        }
+        m = m.max(p.x.abs()).max(p.y.abs());
+        r = r.max(p.r);
+    }
+    let m = (m + r) * (1.0 + 4.0 * EPS);
+    let big = 2.0 * m * (1.0 + 4.0 * EPS);
+    let perm = 12.0 * big * big * big * big * (1.0 + 16.0 * EPS);
+    let delta = (2.0 * r + 2.0 * EPS * big) * (1.0 + 4.0 * EPS);
+    let mm = (big + delta) * (1.0 + 4.0 * EPS);
+    let bound = (16.0 * EPS * perm + 48.0 * mm * mm * mm * delta)
+        * (1.0 + 64.0 * EPS)
+        * (1.0 + 1.0 / 1048576.0)
+        + TINY;
+    if (4.0 * perm).is_finite() && bound.is_finite() {
+        bound
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// [`in_circle_static`]'s determinant decided by one comparison with
+/// `bound`, an [`in_circle_box_bound`] of a set that holds the four points;
+/// `None` where it does not decide.
+#[inline]
+pub(crate) fn in_circle_in_box(
+    a: MidRad,
+    b: MidRad,
+    c: MidRad,
+    d: MidRad,
+    bound: f64,
+) -> Option<Sign> {
+    let (ax, ay) = (a.x - d.x, a.y - d.y);
+    let (bx, by) = (b.x - d.x, b.y - d.y);
+    let (cx, cy) = (c.x - d.x, c.y - d.y);
+    let la = ax * ax + ay * ay;
+    let lb = bx * bx + by * by;
+    let lc = cx * cx + cy * cy;
+    let det = la * (bx * cy - by * cx) + lb * (cx * ay - cy * ax) + lc * (ax * by - ay * bx);
+    if det > bound {
+        Some(Sign::Positive)
+    } else if det < -bound {
+        Some(Sign::Negative)
+    } else {
+        None
     }
 }
 
@@ -1118,7 +1228,7 @@ mod tests {
                 .add(&r[2].1.mul(&cross(&r[0].0, &r[1].0)))
                 .sign()
         };
-        let (mut decided, mut decided_static) = (0, 0);
+        let (mut decided, mut decided_static, mut decided_box) = (0, 0, 0);
         for scale in [1e-300, 1e-9, 1.0, 1e9, 1e150] {
             for _ in 0..3000 {
                 let mut pt = || {
@@ -1152,10 +1262,27 @@ mod tests {
                     decided_static += 1;
                     assert_eq!(s, want, "static: {a:?} {b:?} {c:?} {d:?}");
                 }
+                // the bound of a set that holds the four, and of one that
+                // also holds a point farther out
+                let far = MidRad {
+                    x: -1.5 * scale,
+                    y: 0.5 * scale,
+                    r: scale * 1e-12,
+                };
+                for set in [vec![a.0, b.0, c.0, d.0], vec![d.0, far, c.0, b.0, a.0]] {
+                    let bound = in_circle_box_bound(&set);
+                    if let Some(s) = in_circle_in_box(a.0, b.0, c.0, d.0, bound) {
+                        decided_box += 1;
+                        assert_eq!(s, want, "box: {a:?} {b:?} {c:?} {d:?}");
+                    }
+                }
             }
         }
         assert!(decided > 5000, "decided {decided}");
         assert!(decided_static > 5000, "decided {decided_static} (static)");
+        // (a set's largest radius bounds every test in it: the sets with a
+        // point of radius 1e-3 of the scale decide little)
+        assert!(decided_box > 3000, "decided {decided_box} (box)");
     }
 
     /// Sums, differences and products of midpoint–radius numbers hold the
@@ -1266,7 +1393,7 @@ mod tests {
             seed ^= seed << 17;
             seed
         };
-        let (mut decided, mut dots) = (0, 0);
+        let (mut decided, mut dots, mut boxed) = (0, 0, 0);
         for round in 0..20_000 {
             let scale = [1.0, 1e-12, 3.0e9, 0.1][round % 4];
             let mut pt = || {
@@ -1285,6 +1412,19 @@ mod tests {
                 decided += 1;
                 assert_eq!(s, o, "{a:?} {b:?} {c:?}");
             }
+            // the bound of a set that holds the three, and of one that also
+            // holds a point at the grid's corner
+            let corner = MidRad {
+                x: 4.0 * scale,
+                y: -4.0 * scale,
+                r: 0.0,
+            };
+            for set in [vec![a.0, b.0, c.0], vec![corner, c.0, b.0, a.0]] {
+                if let Some(s) = orient_in_box(a.0, b.0, c.0, orient_box_bound(&set)) {
+                    boxed += 1;
+                    assert_eq!(s, o, "box: {a:?} {b:?} {c:?}");
+                }
+            }
             let (pa, pb, pc) = (exact(a.1), exact(b.1), exact(c.1));
             let dot = pb.sub(&pa).dot(&pc.sub(&pa));
             if let Some(s) = dot_mid_rad(a.0, b.0, c.0) {
@@ -1293,8 +1433,8 @@ mod tests {
             }
         }
         assert!(
-            decided > 10_000 && dots > 10_000,
-            "the filters decide most triples ({decided} turns, {dots} dots)"
+            decided > 10_000 && dots > 10_000 && boxed > 20_000,
+            "the filters decide most triples ({decided} turns, {dots} dots, {boxed} in boxes)"
         );
     }
 

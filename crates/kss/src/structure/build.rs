@@ -20,7 +20,10 @@ type FastMap<K, V> = HashMap<K, V, foldhash::fast::FixedState>;
 use super::geo::Geo;
 use super::{Att, CorrId, Corridor, Kss, Obj, PartitionTriangle, TriId};
 use crate::cdt::{self, CdtError};
-use crate::geom::{in_circle_mid_rad, in_circle_static, orient, orient_mid_rad, MidRad, Point};
+use crate::geom::{
+    in_circle_box_bound, in_circle_in_box, in_circle_mid_rad, in_circle_static, orient,
+    orient_box_bound, orient_in_box, orient_mid_rad, MidRad, Point,
+};
 use crate::num::{Rational, Sign};
 use crate::world::BodyId;
 
@@ -87,6 +90,11 @@ pub(super) struct Vertices<'g, 'w> {
     /// Each vertex's midpoint and radius at `t`, or [`UNPLACED`] (whose
     /// filters never decide) where it has none.
     mids: Vec<MidRad>,
+    /// The [`orient_box_bound`] and [`in_circle_box_bound`] of `mids`:
+    /// most orientations and circle tests are decided by one comparison
+    /// with these before the filters of their own radii.
+    orient_bound: f64,
+    in_circle_bound: f64,
     /// Each vertex's exact position at `t`, computed where a filter cannot
     /// decide (boxed: most are never computed, and an empty cell is one
     /// word rather than a point's four integers).
@@ -103,7 +111,7 @@ impl<'g, 'w> Vertices<'g, 'w> {
     /// The vertices of `atts` (all on bodies) at `t`.
     pub(super) fn new(world: &'g Geo<'w>, t: &'g Rational, atts: Vec<Att>, shrink: bool) -> Self {
         let tiv = t.interval();
-        let mids = atts
+        let mids: Vec<MidRad> = atts
             .iter()
             .map(|&a| world.mid_rad(a, tiv).unwrap_or(UNPLACED))
             .collect();
@@ -112,6 +120,8 @@ impl<'g, 'w> Vertices<'g, 'w> {
             world,
             t,
             atts,
+            orient_bound: orient_box_bound(&mids),
+            in_circle_bound: in_circle_box_bound(&mids),
             mids,
             exact: (0..n).map(|_| OnceCell::new()).collect(),
             shrink,
@@ -179,7 +189,10 @@ impl cdt::Predicates for Vertices<'_, '_> {
     }
 
     fn orient(&self, a: usize, b: usize, c: usize) -> Sign {
-        if let Some(s) = orient_mid_rad(self.mids[a], self.mids[b], self.mids[c]) {
+        let (u, v, w) = (self.mids[a], self.mids[b], self.mids[c]);
+        if let Some(s) =
+            orient_in_box(u, v, w, self.orient_bound).or_else(|| orient_mid_rad(u, v, w))
+        {
             return s;
         }
         let (p, q, r) = (self.exact(a), self.exact(b), self.exact(c));
@@ -199,7 +212,9 @@ impl cdt::Predicates for Vertices<'_, '_> {
 
     fn in_circle(&self, a: usize, b: usize, c: usize, d: usize) -> bool {
         let [p, q, r, s] = [a, b, c, d].map(|i| self.mids[i]);
-        in_circle_static(p, q, r, s).or_else(|| in_circle_mid_rad(p, q, r, s))
+        in_circle_in_box(p, q, r, s, self.in_circle_bound)
+            .or_else(|| in_circle_static(p, q, r, s))
+            .or_else(|| in_circle_mid_rad(p, q, r, s))
             == Some(Sign::Positive)
     }
 
