@@ -798,10 +798,11 @@ fn sign_beyond(v: f64, bound: f64) -> Option<Sign> {
     }
 }
 
-/// A bound for [`orient_in_box`] over a set of points: every midpoint's
-/// coordinates at most `m` in absolute value less the largest radius `r`
-/// (`m` bounds the points within the radii too), or infinite where none is
-/// usable (a non-finite midpoint or radius: then nothing is decided).
+/// A bound for [`orient_in_box`] over a set of points, or infinite where
+/// none is usable (a non-finite midpoint or radius: then nothing is
+/// decided). Let `r` be the largest radius and `m` the largest absolute
+/// midpoint coordinate plus `r`, so that every point within the radii has
+/// coordinates at most `m` in absolute value.
 ///
 /// With `u = 2r + 2εm` (a difference of two midpoints computed in f64 is
 /// within `u` of the difference of any two points within their radii) and
@@ -1003,12 +1004,11 @@ impl Bounded {
 /// A bound for [`in_circle_in_box`] over a set of points: the bound of
 /// [`in_circle_static`] with its permanent, its largest difference and its
 /// radii replaced by what they can be at most for any four points of the
-/// set (every midpoint's coordinates at most `m` less the largest radius
-/// `r` in absolute value, every difference computed in f64 at most
-/// `D = 2m(1 + ε)`, the permanent at most `12·D⁴`, `δ` at most `2r + 2εD`),
-/// which only makes it larger; times `1 + 2^-20` for its own rounding.
-/// Infinite where none is usable (a non-finite midpoint or radius) or a
-/// term could overflow.
+/// set, which only makes it larger (with `r` and `m` as in
+/// [`orient_box_bound`]: every difference computed in f64 at most
+/// `D = 2m(1 + ε)`, the permanent at most `12·D⁴`, `δ` at most `2r + 2εD`);
+/// times `1 + 2^-20` for its own rounding. Infinite where none is usable (a
+/// non-finite midpoint or radius) or a term could overflow.
 pub(crate) fn in_circle_box_bound(mids: &[MidRad]) -> f64 {
     let (mut m, mut r) = (0.0f64, 0.0f64);
     for p in mids {
