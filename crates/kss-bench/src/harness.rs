@@ -674,14 +674,6 @@ pub fn run(
                         ),
                     }
                 };
-                if outcome.status == Status::Ok {
-                    // (the events of the last run: every run of a method
-                    // reports the same)
-                    let file = events_path(&config.events_dir, &wname, &mname);
-                    events.insert(mname.clone(), read_events(&file)?);
-                } else {
-                    events.remove(&mname);
-                }
                 on_progress(Progress::CellDone(&CellResult {
                     workload: wname.clone(),
                     method: mname,
@@ -700,6 +692,11 @@ pub fn run(
             match outcome.status {
                 Status::Ok => {
                     history.insert(key, (work, outcome.wall_seconds, false));
+                    // (the events of the last run, read once: every run of
+                    // a method reports the same, and a method runs again
+                    // only while its runs finish)
+                    let file = events_path(&config.events_dir, &wname, &mname);
+                    events.insert(mname.clone(), read_events(&file)?);
                 }
                 Status::Budget | Status::SkippedBudget => {
                     history.insert(key, (work, f64::INFINITY, true));

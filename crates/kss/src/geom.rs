@@ -798,11 +798,26 @@ fn sign_beyond(v: f64, bound: f64) -> Option<Sign> {
     }
 }
 
+/// `(m, r)` of a set of points for [`orient_box_bound`] and
+/// [`in_circle_box_bound`]: `r` the largest radius, `m` the largest absolute
+/// midpoint coordinate plus `r`, rounded up, so that every point within the
+/// radii has coordinates at most `m` in absolute value; `None` where a
+/// midpoint or radius is not finite.
+fn box_extent(mids: &[MidRad]) -> Option<(f64, f64)> {
+    let (mut m, mut r) = (0.0f64, 0.0f64);
+    for p in mids {
+        if !(p.x.is_finite() && p.y.is_finite() && p.r.is_finite()) {
+            return None;
+        }
+        m = m.max(p.x.abs()).max(p.y.abs());
+        r = r.max(p.r);
+    }
+    Some(((m + r) * (1.0 + 4.0 * EPS), r))
+}
+
 /// A bound for [`orient_in_box`] over a set of points, or infinite where
 /// none is usable (a non-finite midpoint or radius: then nothing is
-/// decided). Let `r` be the largest radius and `m` the largest absolute
-/// midpoint coordinate plus `r`, so that every point within the radii has
-/// coordinates at most `m` in absolute value.
+/// decided); `m` and `r` as [`box_extent`] gives them.
 ///
 /// With `u = 2r + 2εm` (a difference of two midpoints computed in f64 is
 /// within `u` of the difference of any two points within their radii) and
@@ -813,15 +828,9 @@ fn sign_beyond(v: f64, bound: f64) -> Option<Sign> {
 /// The bound is that, times `1 + 2^-20` for its own rounding, plus `TINY`
 /// for underflow; infinite where a product could overflow.
 pub(crate) fn orient_box_bound(mids: &[MidRad]) -> f64 {
-    let (mut m, mut r) = (0.0f64, 0.0f64);
-    for p in mids {
-        if !(p.x.is_finite() && p.y.is_finite() && p.r.is_finite()) {
-            return f64::INFINITY;
-        }
-        m = m.max(p.x.abs()).max(p.y.abs());
-        r = r.max(p.r);
-    }
-    let m = (m + r) * (1.0 + 4.0 * EPS);
+    let Some((m, r)) = box_extent(mids) else {
+        return f64::INFINITY;
+    };
     let u = (2.0 * r + 2.0 * EPS * m) * (1.0 + 4.0 * EPS);
     let bound = (8.00001 * m * u + 16.0001 * EPS * m * m) * (1.0 + 1.0 / 1048576.0) + TINY;
     // (and no product of two differences overflows)
@@ -1004,21 +1013,15 @@ impl Bounded {
 /// A bound for [`in_circle_in_box`] over a set of points: the bound of
 /// [`in_circle_static`] with its permanent, its largest difference and its
 /// radii replaced by what they can be at most for any four points of the
-/// set, which only makes it larger (with `r` and `m` as in
-/// [`orient_box_bound`]: every difference computed in f64 at most
+/// set, which only makes it larger (with `m` and `r` of [`box_extent`]:
+/// every difference computed in f64 at most
 /// `D = 2m(1 + ε)`, the permanent at most `12·D⁴`, `δ` at most `2r + 2εD`);
 /// times `1 + 2^-20` for its own rounding. Infinite where none is usable (a
 /// non-finite midpoint or radius) or a term could overflow.
 pub(crate) fn in_circle_box_bound(mids: &[MidRad]) -> f64 {
-    let (mut m, mut r) = (0.0f64, 0.0f64);
-    for p in mids {
-        if !(p.x.is_finite() && p.y.is_finite() && p.r.is_finite()) {
-            return f64::INFINITY;
-        }
-        m = m.max(p.x.abs()).max(p.y.abs());
-        r = r.max(p.r);
-    }
-    let m = (m + r) * (1.0 + 4.0 * EPS);
+    let Some((m, r)) = box_extent(mids) else {
+        return f64::INFINITY;
+    };
     let big = 2.0 * m * (1.0 + 4.0 * EPS);
     let perm = 12.0 * big * big * big * big * (1.0 + 16.0 * EPS);
     let delta = (2.0 * r + 2.0 * EPS * big) * (1.0 + 4.0 * EPS);
