@@ -17,6 +17,20 @@ fn run_bench(args: &[&str]) -> Output {
         .expect("run kss-bench")
 }
 
+/// A quick run of `plain` and `parry-toi` on the smallest pass, with
+/// `args` after.
+fn run_pair(args: &[&str]) -> Output {
+    let mut all = vec![
+        "--quick",
+        "--methods",
+        "plain,parry-toi",
+        "--workload",
+        "flypast-n16-r1e1",
+    ];
+    all.extend_from_slice(args);
+    run_bench(&all)
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -93,15 +107,7 @@ fn bench_list_survives_a_closed_pipe() {
 fn child_cells_report_their_heap_and_allocations() {
     let dir = temp_dir();
     let out = dir.join("run");
-    let o = run_bench(&[
-        "--quick",
-        "--methods",
-        "plain,parry-toi",
-        "--workload",
-        "flypast-n16-r1e1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_pair(&["--out", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let (run, _) = kss_bench::report::read_runs(&[out.join("bench.json")]).unwrap();
     for m in ["plain", "parry-toi"] {
@@ -121,17 +127,7 @@ fn child_cells_report_their_heap_and_allocations() {
 fn repeated_cells_report_their_median_run_and_every_run() {
     let dir = temp_dir();
     let out = dir.join("run");
-    let o = run_bench(&[
-        "--quick",
-        "--methods",
-        "plain,parry-toi",
-        "--workload",
-        "flypast-n16-r1e1",
-        "--repeat",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_pair(&["--repeat", "3", "--out", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     // (each method ran three times, taking turns)
     let err = stderr(&o);
@@ -160,12 +156,7 @@ fn repeated_cells_report_their_median_run_and_every_run() {
     assert!(md.contains("each cell 3 times"), "{md}");
     assert!(md.contains("## Repeated runs"), "{md}");
     // a checkpoint of a run repeated three times is not resumed once
-    let o = run_bench(&[
-        "--quick",
-        "--methods",
-        "plain,parry-toi",
-        "--workload",
-        "flypast-n16-r1e1",
+    let o = run_pair(&[
         "--resume",
         out.join("checkpoint.json").to_str().unwrap(),
         "--out",

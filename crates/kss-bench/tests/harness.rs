@@ -164,25 +164,11 @@ fn workloads_are_valid_scenarios() {
 
 #[test]
 fn merged_runs_keep_the_later_cell() {
-    use kss_bench::harness::{BenchRun, CellOutcome, CellResult};
+    use kss_bench::harness::{BenchRun, CellResult};
     let cell = |w: &str, m: &str, events: u64| CellResult {
         workload: w.into(),
         method: m.into(),
-        outcome: CellOutcome {
-            status: Status::Ok,
-            wall_seconds: 1.0,
-            setup_seconds: 0.0,
-            sim_seconds: 1.0,
-            counters: kss_bench::Counters {
-                events,
-                ..Default::default()
-            },
-            peak_rss_kib: None,
-            peak_heap_bytes: None,
-            allocations: None,
-            build_seconds: None,
-            wall_runs: Vec::new(),
-        },
+        outcome: outcome(Status::Ok, 1.0, events),
         comparison: None,
     };
     let run = |workloads: &[&str], methods: &[&str], cells| BenchRun {
@@ -292,21 +278,12 @@ fn an_interrupted_run_resumes_from_its_checkpoint() {
 
 #[test]
 fn a_cell_run_several_times_reports_its_median_run() {
-    use kss_bench::harness::{median_run, CellOutcome};
-    let run = |status: Status, wall: f64, events: u64| CellOutcome {
-        status,
-        wall_seconds: wall,
-        setup_seconds: 0.0,
-        sim_seconds: 1.0,
-        counters: kss_bench::Counters {
-            events,
-            ..Default::default()
-        },
-        peak_rss_kib: None,
-        peak_heap_bytes: Some(events),
-        allocations: None,
-        build_seconds: None,
-        wall_runs: Vec::new(),
+    use kss_bench::harness::median_run;
+    // (each run's heap is its event count: the median's is its own)
+    let run = |status: Status, wall: f64, events: u64| {
+        let mut o = outcome(status, wall, events);
+        o.peak_heap_bytes = Some(events);
+        o
     };
     // one run: as it is
     let one = median_run(&[run(Status::Ok, 2.0, 7)]);
@@ -331,4 +308,24 @@ fn a_cell_run_several_times_reports_its_median_run() {
     // a run that did not finish is what the cell reports
     let m = median_run(&[run(Status::Ok, 1.0, 1), run(Status::Budget, 9.0, 0)]);
     assert_eq!(m.status, Status::Budget);
+}
+
+/// An outcome of `status` with its wall time and event count, the rest
+/// zero or absent.
+fn outcome(status: Status, wall: f64, events: u64) -> harness::CellOutcome {
+    harness::CellOutcome {
+        status,
+        wall_seconds: wall,
+        setup_seconds: 0.0,
+        sim_seconds: 1.0,
+        counters: kss_bench::Counters {
+            events,
+            ..Default::default()
+        },
+        peak_rss_kib: None,
+        peak_heap_bytes: None,
+        allocations: None,
+        build_seconds: None,
+        wall_runs: Vec::new(),
+    }
 }
