@@ -167,11 +167,23 @@ impl BodyPolygon {
                     i128::from(m) << (e - exp)
                 }
             };
+            // (each integer `m · 2^(e − exp)` is a double exactly: `|m| <
+            // 2^53` and the shift is at most 47, so its enclosure is a
+            // point, made without a conversion from `i128`)
+            let point = |(m, e): (i64, i64)| {
+                let iv = if m == 0 {
+                    Interval::point(0.0)
+                } else {
+                    Interval::point(m as f64 * (1u64 << (e - exp)) as f64)
+                };
+                debug_assert_eq!(iv, Interval::of_i128(int((m, e))), "the point of {m}·2^{e}");
+                iv
+            };
             let narrow: Vec<[i128; 2]> = parts.iter().map(|p| p.map(int)).collect();
             (
                 narrow.iter().map(|p| Int::from(p[0])).collect(),
                 narrow.iter().map(|p| Int::from(p[1])).collect(),
-                narrow.iter().map(|p| p.map(Interval::of_i128)).collect(),
+                parts.iter().map(|p| p.map(point)).collect(),
                 Some(narrow),
             )
         } else {

@@ -155,6 +155,10 @@ impl Rational {
     /// `self + b·c`, reduced once (not after the product and again after
     /// the sum).
     pub fn mul_add(&self, b: &Rational, c: &Rational) -> Rational {
+        // (a zero product, as at time zero or for a body at rest: `self`)
+        if b.num.is_zero() || c.num.is_zero() {
+            return self.clone();
+        }
         let (pn, pd) = (&b.num * &c.num, &b.den * &c.den);
         if self.den == pd {
             return Rational::new(&self.num + pn, pd);
