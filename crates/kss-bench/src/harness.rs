@@ -118,7 +118,9 @@ pub struct CellOutcome {
 }
 
 impl CellOutcome {
-    fn not_run(status: Status) -> CellOutcome {
+    /// An outcome of `status` with nothing measured: every time and count
+    /// zero, every optional figure absent.
+    pub fn not_run(status: Status) -> CellOutcome {
         CellOutcome {
             status,
             wall_seconds: 0.0,

@@ -1672,20 +1672,14 @@ mod tests {
             workload: w.into(),
             method: m.into(),
             outcome: CellOutcome {
-                status,
                 wall_seconds: wall,
-                setup_seconds: 0.0,
                 sim_seconds: 1.0,
                 counters: Counters {
                     events,
                     collisions,
                     ..Default::default()
                 },
-                peak_rss_kib: None,
-                peak_heap_bytes: None,
-                allocations: None,
-                build_seconds: None,
-                wall_runs: Vec::new(),
+                ..CellOutcome::not_run(status)
             },
             comparison: None,
         }

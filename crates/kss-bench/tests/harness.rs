@@ -314,18 +314,12 @@ fn a_cell_run_several_times_reports_its_median_run() {
 /// zero or absent.
 fn outcome(status: Status, wall: f64, events: u64) -> harness::CellOutcome {
     harness::CellOutcome {
-        status,
         wall_seconds: wall,
-        setup_seconds: 0.0,
         sim_seconds: 1.0,
         counters: kss_bench::Counters {
             events,
             ..Default::default()
         },
-        peak_rss_kib: None,
-        peak_heap_bytes: None,
-        allocations: None,
-        build_seconds: None,
-        wall_runs: Vec::new(),
+        ..harness::CellOutcome::not_run(status)
     }
 }
