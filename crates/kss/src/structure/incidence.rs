@@ -128,12 +128,18 @@ impl<T> Slots<T> {
         self.items
     }
 
-    /// The ids written since the last call, or `None` if every entry counts
-    /// as written; the notes start again.
-    fn take_writes(&self) -> Option<Vec<u32>> {
+    /// Move the ids written since the last call into `buf` (empty; its
+    /// buffer becomes the notes', so that neither is allocated again) and
+    /// return `true`, or return `false` if every entry counts as written;
+    /// the notes start again.
+    fn take_writes(&self, buf: &mut Vec<u32>) -> bool {
+        debug_assert!(buf.is_empty());
         let all = self.all.replace(false);
-        let w = std::mem::take(&mut *self.written.borrow_mut());
-        (!all).then_some(w)
+        std::mem::swap(&mut *self.written.borrow_mut(), buf);
+        if all {
+            buf.clear();
+        }
+        !all
     }
 }
 
@@ -170,6 +176,8 @@ struct Lists {
     of: Vec<Vec<u32>>,
     /// Per body, the length of its list after it was last filtered.
     clean: Vec<usize>,
+    /// The written ids being replayed (kept for its buffer).
+    writes: Vec<u32>,
 }
 
 impl Lists {
@@ -185,32 +193,32 @@ impl Lists {
     /// Bring the lists up to date with the writes to `slots`, then filter
     /// body `b`'s list down to the entries on it, sorted; returns it.
     fn on<T: OnBodies>(&mut self, slots: &Slots<T>, b: BodyId) -> Vec<u32> {
-        match slots.take_writes() {
-            None => {
-                self.of.clear();
-                self.clean.clear();
-                for (id, x) in slots.iter().enumerate() {
+        let mut writes = std::mem::take(&mut self.writes);
+        if slots.take_writes(&mut writes) {
+            for id in writes.drain(..) {
+                if let Some(x) = slots.get(id as usize) {
                     for b in x.bodies().into_iter().flatten() {
-                        self.add(b, id as u32);
-                    }
-                }
-            }
-            Some(ids) => {
-                for id in ids {
-                    if let Some(x) = slots.get(id as usize) {
-                        for b in x.bodies().into_iter().flatten() {
-                            self.add(b, id);
-                            // (a list that doubled since it was last
-                            // filtered is filtered now, so that no list
-                            // outgrows its body's share)
-                            if self.of[b.index()].len() > 2 * self.clean[b.index()].max(16) {
-                                self.filter(slots, b);
-                            }
+                        self.add(b, id);
+                        // (a list that doubled since it was last filtered
+                        // is filtered now, so that no list outgrows its
+                        // body's share)
+                        if self.of[b.index()].len() > 2 * self.clean[b.index()].max(16) {
+                            self.filter(slots, b);
                         }
                     }
                 }
             }
+        } else {
+            // (each list emptied, its buffer kept for the same body)
+            self.of.iter_mut().for_each(Vec::clear);
+            self.clean.iter_mut().for_each(|c| *c = 0);
+            for (id, x) in slots.iter().enumerate() {
+                for b in x.bodies().into_iter().flatten() {
+                    self.add(b, id as u32);
+                }
+            }
         }
+        self.writes = writes;
         if b.index() >= self.of.len() {
             return Vec::new();
         }
