@@ -27,8 +27,13 @@ fn pair_time_of_impact(c: &mut Criterion) {
         let zero = Rational::zero();
         group.bench_with_input(BenchmarkId::new("kss_exact", n), &n, |b, _| {
             b.iter(|| {
-                contact_interval(black_box(&world), BodyId(0), BodyId(1), PairMethod::Fast)
-                    .next_contact(&zero)
+                contact_interval(
+                    black_box(&world),
+                    BodyId::new(0),
+                    BodyId::new(1),
+                    PairMethod::Fast,
+                )
+                .next_contact(&zero)
             })
         });
         let shape = |i: usize| {

@@ -200,7 +200,7 @@ impl Sweep {
                             }
                         }
                         for other in found {
-                            s.add_candidate(world, BodyId(body), BodyId(other), &zero);
+                            s.add_candidate(world, BodyId::new(body), BodyId::new(other), &zero);
                         }
                         slot[body as usize] = active.len();
                         active.push(body);
@@ -213,7 +213,7 @@ impl Sweep {
     }
 
     fn set_motion(&mut self, world: &World, body: u32) {
-        let b = world.body(BodyId(body));
+        let b = world.body(BodyId::new(body));
         let (o, v) = (b.traj.origin(), b.traj.velocity());
         let bx = &self.local_box[body as usize];
         for (ax, (oc, vc)) in [(&o.x, &v.x), (&o.y, &v.y)].into_iter().enumerate() {
@@ -299,10 +299,10 @@ impl Sweep {
     }
 
     fn add_candidate(&mut self, world: &World, a: BodyId, b: BodyId, now: &Rational) {
-        if !world.pair_active(a, b) || !self.neighbours[a.index()].insert(b.0) {
+        if !world.pair_active(a, b) || !self.neighbours[a.index()].insert(b.raw()) {
             return;
         }
-        self.neighbours[b.index()].insert(a.0);
+        self.neighbours[b.index()].insert(a.raw());
         let pair = key(a, b);
         let mut since = self.last_change[a.index()]
             .clone()
@@ -314,10 +314,10 @@ impl Sweep {
     }
 
     fn remove_candidate(&mut self, a: BodyId, b: BodyId, now: &Rational) {
-        if !self.neighbours[a.index()].remove(&b.0) {
+        if !self.neighbours[a.index()].remove(&b.raw()) {
             return;
         }
-        self.neighbours[b.index()].remove(&a.0);
+        self.neighbours[b.index()].remove(&a.raw());
         let pair = key(a, b);
         // a collision at this very instant stays (the boxes still touch now)
         if let Some(t) = self.pair_time.get(&pair) {
@@ -359,10 +359,10 @@ impl Sweep {
                 // a maximum passed behind a minimum: overlap starts on this axis
                 let tf = t.to_f64();
                 if self.axes[1 - ax].closed_overlap(bl, br, t, tf) {
-                    self.add_candidate(world, BodyId(bl), BodyId(br), t);
+                    self.add_candidate(world, BodyId::new(bl), BodyId::new(br), t);
                 }
             } else {
-                self.remove_candidate(BodyId(bl), BodyId(br), t);
+                self.remove_candidate(BodyId::new(bl), BodyId::new(br), t);
             }
         }
     }
@@ -436,7 +436,7 @@ impl Finder for Sweep {
         for &(a, b) in reported {
             let pair = key(a, b);
             self.reported_at.insert(pair, now.clone());
-            if world.pair_active(a, b) && self.neighbours[a.index()].contains(&b.0) {
+            if world.pair_active(a, b) && self.neighbours[a.index()].contains(&b.raw()) {
                 self.compute(world, pair, now, now);
             } else {
                 self.set_collision(pair, None);
@@ -446,19 +446,19 @@ impl Finder for Sweep {
             self.last_change[c.index()] = now.clone();
             if !world.body(c).alive {
                 for ax in 0..2 {
-                    self.unlink(ax, 2 * c.0, now);
-                    self.unlink(ax, 2 * c.0 + 1, now);
+                    self.unlink(ax, 2 * c.raw(), now);
+                    self.unlink(ax, 2 * c.raw() + 1, now);
                 }
                 let others: Vec<u32> = self.neighbours[c.index()].drain().collect();
                 for o in others {
-                    self.neighbours[o as usize].remove(&c.0);
-                    self.set_collision(key(c, BodyId(o)), None);
+                    self.neighbours[o as usize].remove(&c.raw());
+                    self.set_collision(key(c, BodyId::new(o)), None);
                 }
                 continue;
             }
-            self.set_motion(world, c.0);
+            self.set_motion(world, c.raw());
             for ax in 0..2 {
-                for e in [2 * c.0, 2 * c.0 + 1] {
+                for e in [2 * c.raw(), 2 * c.raw() + 1] {
                     let p = self.axes[ax].prev[e as usize];
                     if p != NIL {
                         self.schedule_cert(ax, p, now);
@@ -468,7 +468,7 @@ impl Finder for Sweep {
             }
             let others: Vec<u32> = self.neighbours[c.index()].iter().copied().collect();
             for o in others {
-                self.compute(world, key(c, BodyId(o)), now, now);
+                self.compute(world, key(c, BodyId::new(o)), now, now);
             }
         }
         self.note_certs();

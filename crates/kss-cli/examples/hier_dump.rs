@@ -53,7 +53,7 @@ fn main() {
         }
     }
     for b in 0..state.world.len() {
-        let id = kss::world::BodyId(b as u32);
+        let id = kss::world::BodyId::new(b as u32);
         if !state.world.body(id).alive {
             continue;
         }

@@ -27,7 +27,7 @@ fn main() {
             st => eprintln!("{st:?}"),
         }
     }
-    let has = |o: Obj| o == Obj::Body(BodyId(x)) || o == Obj::Body(BodyId(y));
+    let has = |o: Obj| o == Obj::Body(BodyId::new(x)) || o == Obj::Body(BodyId::new(y));
     for (i, c) in k.kss.corrs.iter().enumerate() {
         if has(c.a) && has(c.b) {
             println!(

@@ -446,7 +446,7 @@ impl Brute {
         let n = world.len() as u32;
         for i in 0..n {
             for j in i + 1..n {
-                brute.recompute(world, now, BodyId(i), BodyId(j));
+                brute.recompute(world, now, BodyId::new(i), BodyId::new(j));
             }
         }
         brute
@@ -503,7 +503,7 @@ impl Brute {
         let mut done: BTreeSet<(BodyId, BodyId)> = BTreeSet::new();
         for &c in bodies {
             for o in 0..n {
-                let o = BodyId(o);
+                let o = BodyId::new(o);
                 if o == c {
                     continue;
                 }
@@ -545,7 +545,7 @@ impl Brute {
         let n = world.len() as u32;
         for i in 0..n {
             for j in i + 1..n {
-                let (a, b) = (BodyId(i), BodyId(j));
+                let (a, b) = (BodyId::new(i), BodyId::new(j));
                 if !world.pair_active(a, b) {
                     continue;
                 }

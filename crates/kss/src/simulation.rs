@@ -257,10 +257,10 @@ impl Simulation {
             .bodies()
             .iter()
             .enumerate()
-            .map(|(i, b)| (b.id.clone(), BodyId(i as u32)))
+            .map(|(i, b)| (b.id.clone(), BodyId::new(i as u32)))
             .collect();
         let max_bits = (0..world.len() as u32)
-            .map(|i| world.number_bits(BodyId(i)))
+            .map(|i| world.number_bits(BodyId::new(i)))
             .max()
             .unwrap_or(0);
         let sim = Simulation {

@@ -32,13 +32,47 @@ use crate::num::{Int, Interval, Rational, Sign, Time};
 use crate::scenario::{CollisionMode, PolygonSpec, Scenario, ScenarioError};
 
 /// Index of a body in the world.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct BodyId(pub u32);
+///
+/// Held as the index plus one, never zero, so that an
+/// [`Obj`](crate::structure::Obj) (a body or `ω`) takes four bytes and a
+/// point of the structure eight: the structure compares, hashes and copies
+/// triples of points on every event. Ordered, hashed and printed by the
+/// index.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub struct BodyId(std::num::NonZeroU32);
 
 impl BodyId {
+    /// The body of index `index` (below `u32::MAX`, which no body has).
+    #[inline]
+    pub const fn new(index: u32) -> BodyId {
+        match std::num::NonZeroU32::new(index.wrapping_add(1)) {
+            Some(n) => BodyId(n),
+            None => panic!("a body index of u32::MAX"),
+        }
+    }
+
     /// As an index.
+    #[inline]
     pub fn index(self) -> usize {
-        self.0 as usize
+        self.raw() as usize
+    }
+
+    /// The index as a `u32`.
+    #[inline]
+    pub const fn raw(self) -> u32 {
+        self.0.get() - 1
+    }
+}
+
+impl std::hash::Hash for BodyId {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.raw().hash(state);
+    }
+}
+
+impl std::fmt::Debug for BodyId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("BodyId").field(&self.raw()).finish()
     }
 }
 
@@ -494,7 +528,7 @@ impl World {
                     changes.insert(
                         (t, seq),
                         Change {
-                            body: BodyId(body as u32),
+                            body: BodyId::new(body as u32),
                             velocity,
                             anchor: None,
                         },
@@ -773,7 +807,7 @@ impl World {
                     &o.shape,
                     &o.traj.position_at(t),
                 ))
-            .then_some(BodyId(i as u32))
+            .then_some(BodyId::new(i as u32))
         })
     }
 
@@ -787,7 +821,7 @@ impl World {
         }
         self.bodies.push(body);
         self.alive += 1;
-        Ok(BodyId(self.bodies.len() as u32 - 1))
+        Ok(BodyId::new(self.bodies.len() as u32 - 1))
     }
 
     /// Remove one body at once, fixed ones included.
@@ -1895,7 +1929,7 @@ mod tests {
     /// vertex on a corner, is refused and the pass answers.
     #[test]
     fn a_hinted_contact_is_the_pass_and_a_wrong_hint_is_refused() {
-        let (sq, tri) = (BodyId(0), BodyId(1));
+        let (sq, tri) = (BodyId::new(0), BodyId::new(1));
         let one = Rational::from_int(Int::from(1));
         let w = apex_on_edge(0.0);
         let pass = w.contact_pass(sq, tri, &one).expect("they touch at t = 1");
@@ -1936,7 +1970,7 @@ mod tests {
     /// bridge.
     #[test]
     fn a_contact_asked_again_after_a_response_at_its_instant_is_the_memos() {
-        let (a, b) = (BodyId(0), BodyId(1));
+        let (a, b) = (BodyId::new(0), BodyId::new(1));
         let third = Rational::new(Int::from(4), Int::from(3));
         for (v, t) in [(1.0, Rational::from_int(Int::from(1))), (0.75, third)] {
             let s = Scenario {
@@ -1982,7 +2016,7 @@ mod tests {
     /// terms, with the bit count of the reduced numbers.
     #[test]
     fn a_bridge_reduces_its_numbers_only_when_read() {
-        let (a, b) = (BodyId(0), BodyId(1));
+        let (a, b) = (BodyId::new(0), BodyId::new(1));
         let t = Rational::new(Int::from(4), Int::from(3));
         let s = Scenario {
             until: 4.0,
@@ -2041,7 +2075,7 @@ mod tests {
                 ..Default::default()
             };
             let w = bodies(&s);
-            let (ba, bb) = (w.body(BodyId(0)), w.body(BodyId(1)));
+            let (ba, bb) = (w.body(BodyId::new(0)), w.body(BodyId::new(1)));
             let r = Rational::from_f64(side).expect("finite");
             let big = n.scale(&r.mul(&r)); // beyond the doubles at 2^600
             for normal in [&n, &big] {
@@ -2066,8 +2100,8 @@ mod tests {
         let w = bodies(&s);
         let n = Point::from_f64([1.0, 0.0]).expect("finite");
         let (a, b) = impulse(
-            w.body(BodyId(0)),
-            w.body(BodyId(1)),
+            w.body(BodyId::new(0)),
+            w.body(BodyId::new(1)),
             &n,
             [1.0, 0.0],
             [0.0, 0.0],
@@ -2105,11 +2139,11 @@ mod tests {
             ..Default::default()
         };
         let w = bodies(&s);
-        assert!(w.body(BodyId(1)).area() < 1e-277);
+        assert!(w.body(BodyId::new(1)).area() < 1e-277);
         let n = Point::from_f64([1.0, 0.0]).expect("finite");
         let (a, b) = impulse(
-            w.body(BodyId(0)),
-            w.body(BodyId(1)),
+            w.body(BodyId::new(0)),
+            w.body(BodyId::new(1)),
             &n,
             [0.0, 0.0],
             [-3e-218, 1e-218],

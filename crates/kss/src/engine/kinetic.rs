@@ -94,13 +94,13 @@ fn resting_pairs(
         None => {
             for i in 0..n {
                 for j in i + 1..n {
-                    test(BodyId(i), BodyId(j));
+                    test(BodyId::new(i), BodyId::new(j));
                 }
             }
         }
         Some(bodies) => {
             for &c in bodies {
-                for o in (0..n).map(BodyId) {
+                for o in (0..n).map(BodyId::new) {
                     // a pair of two listed bodies once
                     if !(o < c && bodies.contains(&o)) {
                         test(c, o);
@@ -214,7 +214,7 @@ impl KineticEngine {
     fn audit_at(&self, world: &World, now: &Time, at: &Rational) -> Result<(), String> {
         for (i, ap) in self.shapes.per.iter().enumerate() {
             if let Some(ap) = ap {
-                let body = world.body(BodyId(i as u32));
+                let body = world.body(BodyId::new(i as u32));
                 if body.alive {
                     ap.array
                         .check_exposed(&body.shape, ap.exposed())
@@ -1176,7 +1176,7 @@ mod tests {
     /// (a wall's partner, an explicit removal) leaves alone.
     #[test]
     fn removal_groups_follow_the_collisions_among_the_dead() {
-        let b = BodyId;
+        let b = BodyId::new;
         let dead = [b(4), b(1), b(7), b(2), b(9), b(5)];
         // 4–2 and 2–9 chain; 1–7; 5 hit a body that stays (3)
         let reported = [(b(2), b(9)), (b(1), b(7)), (b(5), b(3)), (b(4), b(2))];

@@ -55,7 +55,7 @@ impl Kss {
             }
         }
         let mut covered: Vec<Vec<u8>> = (0..world.len())
-            .map(|b| vec![0u8; world.id_bound(crate::world::BodyId(b as u32))])
+            .map(|b| vec![0u8; world.id_bound(crate::world::BodyId::new(b as u32))])
             .collect();
         for (ki, c) in self.corrs.iter().enumerate() {
             let (a_s, b_s, a_t, b_t) = self.ends(super::CorrId(ki as u32));
@@ -91,7 +91,7 @@ impl Kss {
             if !world.bodies()[bi].alive {
                 continue;
             }
-            let ids = world.ids(crate::world::BodyId(bi as u32));
+            let ids = world.ids(crate::world::BodyId::new(bi as u32));
             if let Some(&e) = ids.iter().find(|&&e| cov[e as usize] != 1) {
                 return Err(StructureError::Invariant(format!(
                     "edge {e} of body {} is in {} corridor chains",
@@ -158,7 +158,7 @@ impl Kss {
             .enumerate()
             .map(|(bi, b)| {
                 b.alive.then(|| {
-                    let id = crate::world::BodyId(bi as u32);
+                    let id = crate::world::BodyId::new(bi as u32);
                     let pts: Vec<Point> = world
                         .ids(id)
                         .into_iter()

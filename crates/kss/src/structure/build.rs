@@ -149,7 +149,7 @@ impl<'g, 'w> Vertices<'g, 'w> {
             let c = self
                 .centroids
                 .borrow_mut()
-                .entry(b.0)
+                .entry(b.raw())
                 .or_insert_with(|| {
                     let body = self.world.world.body(b);
                     body.traj.position_at(self.t).add(body.centroid())
@@ -240,10 +240,10 @@ fn build_with(world: &Geo, t: &Rational, shrink: bool) -> Result<Kss, BuildError
             continue;
         }
         let base = atts.len();
-        let ids = world.ids(BodyId(i as u32));
+        let ids = world.ids(BodyId::new(i as u32));
         let n = ids.len();
         for (x, &v) in ids.iter().enumerate() {
-            atts.push(Att::vertex(BodyId(i as u32), v));
+            atts.push(Att::vertex(BodyId::new(i as u32), v));
             edges.push([base + x, base + (x + 1) % n]);
         }
     }

@@ -273,8 +273,8 @@ mod tests {
             use crate::world::BodyId;
             let att = |(o, v): (u32, u32)| match o {
                 3 => Att::OMEGA,
-                2 => Att { obj: Obj::Body(BodyId(u32::MAX - 1)), v },
-                _ => Att { obj: Obj::Body(BodyId(o)), v },
+                2 => Att { obj: Obj::Body(BodyId::new(u32::MAX - 1)), v },
+                _ => Att { obj: Obj::Body(BodyId::new(o)), v },
             };
             let p = p.map(att);
             let m = (0..3).min_by_key(|&i| p[i]).expect("three points");

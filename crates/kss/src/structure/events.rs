@@ -446,7 +446,7 @@ mod tests {
         };
         let w = World::new(&s, None).unwrap();
         let w = Geo::plain(&w);
-        let (a, b) = (BodyId(0), BodyId(1));
+        let (a, b) = (BodyId::new(0), BodyId::new(1));
         let cert = Cert {
             p: [Att::vertex(a, 1), Att::vertex(a, 2), Att::vertex(b, 0)],
             sign: Sign::Negative,

@@ -108,6 +108,10 @@ pub struct Att {
     pub v: u32,
 }
 
+// (a body id is never zero inside, so `ω` takes no room of its own: an
+// object is four bytes and a point eight, a triple of points 24)
+const _: () = assert!(std::mem::size_of::<Obj>() == 4 && std::mem::size_of::<Att>() == 8);
+
 /// One word per point (the certificate maps hash triples of them on every
 /// event): the body index (`u32::MAX` for `ω`) and the vertex id.
 impl std::hash::Hash for Att {
@@ -121,7 +125,7 @@ impl Att {
     /// the vertex id; two points are equal exactly when their words are.
     pub fn word(self) -> u64 {
         let obj = match self.obj {
-            Obj::Body(b) => b.0,
+            Obj::Body(b) => b.raw(),
             Obj::Omega => u32::MAX,
         };
         (u64::from(obj) << 32) | u64::from(self.v)
@@ -134,7 +138,7 @@ impl Att {
             obj: if obj == u32::MAX {
                 Obj::Omega
             } else {
-                Obj::Body(crate::world::BodyId(obj))
+                Obj::Body(crate::world::BodyId::new(obj))
             },
             v,
         }
@@ -307,7 +311,7 @@ impl Kss {
         for (i, c) in self.corrs.iter().enumerate() {
             let (a_s, b_s, a_t, b_t) = self.ends(CorrId(i as u32));
             let f = |x: Att| match x.obj {
-                Obj::Body(b) => format!("{}.{}", b.0, x.v),
+                Obj::Body(b) => format!("{}.{}", b.raw(), x.v),
                 Obj::Omega => "w".to_string(),
             };
             eprintln!(

@@ -628,7 +628,11 @@ impl Kss {
                     };
                     if line_splits(geo, &rings[at].1, [p, q], tiv, &sign) {
                         #[cfg(feature = "trace")]
-                        eprintln!("  triangle {}: side {p:?}-{q:?} crosses body {}", ti.0, b.0);
+                        eprintln!(
+                            "  triangle {}: side {p:?}-{q:?} crosses body {}",
+                            ti.0,
+                            b.raw()
+                        );
                         return false;
                     }
                 }

@@ -411,7 +411,7 @@ pub fn pop_every_level(world: &World, shapes: &mut Shapes) -> u64 {
     {
         let geo = Geo { world, shapes };
         for (i, body) in world.bodies().iter().enumerate() {
-            let id = BodyId(i as u32);
+            let id = BodyId::new(i as u32);
             if body.alive && shapes.per.get(i).is_some_and(Option::is_some) {
                 todo.extend(
                     geo.ids(id)
@@ -497,7 +497,7 @@ fn box_pairs(world: &World, shapes: &Shapes, t: &Rational) -> Vec<(BodyId, BodyI
                 // the enclosures of the approximation's vertices at `t`
                 // (rigorous: an overlap is never hidden); a box that is
                 // not finite meets every other one
-                match geo.seen_box(BodyId(i as u32), tiv) {
+                match geo.seen_box(BodyId::new(i as u32), tiv) {
                     Some([x, y]) => [x.lo, y.lo, x.hi, y.hi],
                     None => [
                         f64::NEG_INFINITY,
@@ -525,7 +525,7 @@ fn box_pairs(world: &World, shapes: &Shapes, t: &Rational) -> Vec<(BodyId, BodyI
             if bj[1] > bi[3] || bi[1] > bj[3] {
                 continue;
             }
-            pairs.push((BodyId(i as u32), BodyId(j as u32)));
+            pairs.push((BodyId::new(i as u32), BodyId::new(j as u32)));
         }
     }
     pairs
@@ -550,13 +550,13 @@ mod tests {
                 };
                 let n = world.len();
                 for i in 0..n {
-                    let a = BodyId(i as u32);
+                    let a = BodyId::new(i as u32);
                     let ap = shapes.approx(a).unwrap();
                     ap.array
                         .check_exposed(&world.body(a).shape, ap.exposed())
                         .unwrap();
                     for j in i + 1..n {
-                        let b = BodyId(j as u32);
+                        let b = BodyId::new(j as u32);
                         let sign = |u, v, w| {
                             let p = |x: Att| geo.position(x, &Rational::zero()).unwrap();
                             orient(&p(u), &p(v), &p(w))

@@ -104,7 +104,7 @@ pub fn kind_name(kind: CertKind) -> &'static str {
 pub fn approximations(world: &Geo, at: &Rational) -> Vec<Vec<([f64; 2], bool)>> {
     let mut out = Vec::new();
     for (i, ap) in world.shapes.per.iter().enumerate() {
-        let b = crate::world::BodyId(i as u32);
+        let b = crate::world::BodyId::new(i as u32);
         if ap.is_none() || !world.body(b).alive {
             continue;
         }

@@ -79,7 +79,7 @@ pub(super) fn nearest_body(world: &Geo, b: BodyId, now: &Time) -> Option<BodyId>
         dx * dx + dy * dy
     };
     (0..world.bodies().len() as u32)
-        .map(BodyId)
+        .map(BodyId::new)
         .filter(|&c| c != b && world.body(c).alive)
         .map(|c| (gap(bounds(c)), c))
         .min_by(|x, y| x.0.total_cmp(&y.0))
@@ -544,7 +544,8 @@ impl Kinetic {
         // moment: the new triangles and corridors take over the ones they
         // share (most of a merged corridor's junctions) without computing
         // their failure times again
-        let mut orphans: Vec<CertId> = Vec::new();
+        let mut orphans: Vec<CertId> =
+            Vec::with_capacity(4 * (plan.dead_tris.len() + plan.dead_corrs.len()));
         let dead = (plan.dead_tris.iter().map(|&t| Owner::Tri(t)))
             .chain(plan.dead_corrs.iter().map(|&k| Owner::Corr(k)));
         for o in dead {
@@ -624,25 +625,14 @@ impl Kinetic {
             .flatten()
             .map(|&p| crate::structure::certs::rotate_to_min(p))
             .collect();
-        let fresh: Option<Vec<[Att; 3]>> = spliced
-            .tris
-            .iter()
+        let fresh = (spliced.tris.iter())
             .flat_map(|t| &self.owned_tri[t.0 as usize])
-            .chain(
-                spliced
-                    .corrs
-                    .iter()
-                    .flat_map(|k| &self.owned_corr[k.0 as usize]),
-            )
-            .map(|&id| self.certs.at(id).map(|s| s.cert.p))
-            .collect();
-        let Some(fresh) = fresh else {
-            return Ok(false);
-        };
-        for p in &fresh {
-            let Some(s) = self.certs.get(p) else {
+            .chain((spliced.corrs.iter()).flat_map(|k| &self.owned_corr[k.0 as usize]));
+        for &id in fresh {
+            let Some(s) = self.certs.at(id) else {
                 return Ok(false);
             };
+            let p = &s.cert.p;
             if adopted.contains(p) || held.contains(p) {
                 continue;
             }

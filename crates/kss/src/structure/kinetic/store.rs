@@ -112,7 +112,7 @@ mod tests {
 
     fn rec(v: u32) -> Scheduled {
         let a = |b: u32, v: u32| Att {
-            obj: Obj::Body(BodyId(b)),
+            obj: Obj::Body(BodyId::new(b)),
             v,
         };
         Scheduled {

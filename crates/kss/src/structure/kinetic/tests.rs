@@ -93,7 +93,7 @@ fn each_view(seeds: u64, bodies: usize, mut f: impl FnMut(&Geo, &[Att])) {
                 };
                 let pts: Vec<Att> = (0..world.len().min(bodies))
                     .flat_map(|b| {
-                        let b = crate::world::BodyId(b as u32);
+                        let b = crate::world::BodyId::new(b as u32);
                         geo.ids(b).into_iter().map(move |v| Att::vertex(b, v))
                     })
                     .collect();
@@ -258,7 +258,7 @@ fn pops_in_place_keep_the_structure_valid() {
                 };
                 let verts: Vec<Att> = (0..world.len())
                     .flat_map(|b| {
-                        let b = BodyId(b as u32);
+                        let b = BodyId::new(b as u32);
                         geo.ids(b).into_iter().map(move |v| Att::vertex(b, v))
                     })
                     .filter(|&a| !geo.is_real(a))
@@ -303,7 +303,7 @@ fn point_words_order_triples_as_the_points_do() {
     use crate::world::BodyId;
     let pts: Vec<Att> = [0u32, 1, 7, u32::MAX - 1]
         .into_iter()
-        .flat_map(|b| [0u32, 3, u32::MAX].map(|v| Att::vertex(BodyId(b), v)))
+        .flat_map(|b| [0u32, 3, u32::MAX].map(|v| Att::vertex(BodyId::new(b), v)))
         .chain([Att::OMEGA])
         .collect();
     let mut triples: Vec<[Att; 3]> = Vec::new();
