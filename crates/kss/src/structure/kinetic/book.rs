@@ -619,14 +619,14 @@ impl Kinetic {
         } else {
             Owned::with_capacity(fresh.len())
         };
-        for (c, same) in fresh.into_iter().zip(same) {
-            if let Some(id) = same {
+        for (i, c) in fresh.iter().enumerate() {
+            if let Some(id) = same[i] {
                 mine.push(id);
                 continue;
             }
             let c = match pending.get(&c.p) {
                 Some(old) if old.sign != c.sign => *old,
-                _ => c,
+                _ => *c,
             };
             let id = match self.certs.insert_new(unscheduled(c, o)) {
                 Ok(id) => {
