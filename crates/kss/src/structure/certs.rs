@@ -262,6 +262,32 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// Points are ordered by object (bodies by index, `ω` after every
+        /// body), then by vertex id: the order of their words, which
+        /// `Att`'s `Ord` compares (body 3 stands for ω, body 2 for the
+        /// largest index a world can have).
+        #[test]
+        fn points_are_ordered_by_object_then_vertex(
+            a in (0u32..4, proptest::prelude::any::<u32>()),
+            b in (0u32..4, proptest::prelude::any::<u32>()),
+        ) {
+            use crate::structure::{Att, Obj};
+            use crate::world::BodyId;
+            let att = |(o, v): (u32, u32)| match o {
+                3 => Att::OMEGA,
+                2 => Att { obj: Obj::Body(BodyId::new(u32::MAX - 1)), v },
+                _ => Att { obj: Obj::Body(BodyId::new(o)), v },
+            };
+            let (x, y) = (att(a), att(b));
+            let rank = |p: Att| match p.obj {
+                Obj::Body(b) => (0u8, b.raw(), p.v),
+                Obj::Omega => (1u8, 0, p.v),
+            };
+            proptest::prop_assert_eq!(x.cmp(&y), rank(x).cmp(&rank(y)));
+            proptest::prop_assert_eq!(x.cmp(&y) == std::cmp::Ordering::Equal, x == y);
+            proptest::prop_assert_eq!(x.partial_cmp(&y), Some(x.cmp(&y)));
+        }
+
         /// `rotate_to_min` rotates its triple to the first of its smallest
         /// points by `Att`'s `Ord` (points repeat in the samples; body 3
         /// stands for ω, body 2 for the largest index a world can have).

@@ -66,12 +66,22 @@ type FaceJunctions = ArrayVec<Junction, 4>;
 /// replace (`ω` marks an unused entry: nothing places it): a walk's
 /// ([`Kss::walk`], whose steps share their points) and a validity check's
 /// (a corridor's junctions share most of theirs: a corner is the next
-/// junction's neighbour).
-pub(crate) struct PointMemo<const N: usize>([(Att, Option<crate::geom::MidRad>); N], usize);
+/// junction's neighbour). The points are kept as their words
+/// ([`Att::word`]) apart from the places, so that a search reads one
+/// short array.
+pub(crate) struct PointMemo<const N: usize> {
+    keys: [u64; N],
+    places: [Option<crate::geom::MidRad>; N],
+    next: usize,
+}
 
 impl<const N: usize> Default for PointMemo<N> {
     fn default() -> PointMemo<N> {
-        PointMemo([(Att::OMEGA, None); N], 0)
+        PointMemo {
+            keys: [Att::OMEGA.word(); N],
+            places: [None; N],
+            next: 0,
+        }
     }
 }
 
@@ -83,12 +93,14 @@ impl<const N: usize> PointMemo<N> {
         a: Att,
         t: crate::num::Interval,
     ) -> Option<crate::geom::MidRad> {
-        if let Some(&(_, m)) = self.0.iter().find(|(x, _)| *x == a) {
-            return m;
+        let w = a.word();
+        if let Some(i) = self.keys.iter().position(|&k| k == w) {
+            return self.places[i];
         }
         let m = world.mid_rad(a, t);
-        self.0[self.1 % N] = (a, m);
-        self.1 = self.1.wrapping_add(1);
+        let i = self.next % N;
+        (self.keys[i], self.places[i]) = (w, m);
+        self.next = self.next.wrapping_add(1);
         m
     }
 }

@@ -100,7 +100,10 @@ pub enum Obj {
 }
 
 /// A point a bridge can end at: a vertex of a body, or `ω`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+///
+/// Ordered by object (bodies by index, `ω` last), then vertex id: the
+/// order of their words ([`Att::word`]), which is what is compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Att {
     /// The object.
     pub obj: Obj,
@@ -117,6 +120,22 @@ const _: () = assert!(std::mem::size_of::<Obj>() == 4 && std::mem::size_of::<Att
 impl std::hash::Hash for Att {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
         state.write_u64(self.word());
+    }
+}
+
+/// (one comparison of two words: the structure sorts triples of points,
+/// and keys ordered maps with them, on every event)
+impl Ord for Att {
+    #[inline]
+    fn cmp(&self, other: &Att) -> std::cmp::Ordering {
+        self.word().cmp(&other.word())
+    }
+}
+
+impl PartialOrd for Att {
+    #[inline]
+    fn partial_cmp(&self, other: &Att) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
     }
 }
 
