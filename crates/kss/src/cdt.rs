@@ -249,6 +249,50 @@ pub fn triangulate_adjacent(
 /// The triangles of [`triangulate_adjacent`] and their neighbours.
 pub type TrianglesAdjacent = (Vec<[usize; 3]>, Vec<[Option<u32>; 3]>);
 
+/// A triangulation as [`triangulate`] makes it, with its adjacency: which
+/// triangle lies across each side and which one holds a directed edge, in
+/// time proportional to the triangles at the edge's first vertex.
+pub struct Triangulation(Mesh);
+
+impl Triangulation {
+    /// The number of triangles.
+    pub fn len(&self) -> usize {
+        self.0.tri.len()
+    }
+
+    /// Whether there is no triangle.
+    pub fn is_empty(&self) -> bool {
+        self.0.tri.is_empty()
+    }
+
+    /// Triangle `t`, counter-clockwise.
+    pub fn triangle(&self, t: usize) -> [usize; 3] {
+        self.0.tri[t].map(|v| v as usize)
+    }
+
+    /// The triangle across side `i` of triangle `t` (from corner `i` to
+    /// corner `i + 1`), `None` on the convex hull.
+    pub fn across(&self, t: usize, i: usize) -> Option<usize> {
+        let n = self.0.nbr[t][i];
+        (n != NONE).then_some(n as usize)
+    }
+
+    /// The triangle with the directed edge `a → b` as a side (on its left),
+    /// `None` if `a → b` is no side of a triangle (on the hull, or no edge).
+    pub fn left_of(&self, a: usize, b: usize) -> Option<usize> {
+        self.0.find(a as u32, b as u32).map(|(t, _)| t as usize)
+    }
+}
+
+/// [`triangulate`] as a [`Triangulation`], with its adjacency.
+pub fn triangulate_with_adjacency(
+    n: usize,
+    segments: &[[usize; 2]],
+    p: &impl Predicates,
+) -> Result<Triangulation, CdtError> {
+    triangulate_mesh(n, segments, p).map(Triangulation)
+}
+
 /// The mesh of [`triangulate`].
 fn triangulate_mesh(
     n: usize,

@@ -308,7 +308,8 @@ impl Kss {
         if dead_tris.len() < 2 && !keep {
             return Err("the body has fewer than two triangles".into());
         }
-        let dead_set: HashSet<TriId> = dead_tris.iter().copied().collect();
+        // (sorted: found by a binary search)
+        let is_dead = |t: &TriId| dead_tris.binary_search(t).is_ok();
         // the bridges of R's boundary, each with R on its left, and the
         // outside corridors beyond them
         let mut portal: HashMap<(Att, Att), Portal> =
@@ -414,11 +415,9 @@ impl Kss {
             }
             constraints.insert((x.min(y), x.max(y)));
         }
-        // the local triangulation, oriented exactly
-        // (a triangulation of `n` points has fewer than `2n` triangles)
-        let mut directed: HashMap<(usize, usize), usize> =
-            HashMap::with_capacity_and_hasher(6 * atts.len(), Default::default());
-        let mut tris: Vec<[usize; 3]> = Vec::with_capacity(2 * atts.len());
+        // the local triangulation, oriented exactly, with its adjacency
+        // (which triangle lies across a side, which one holds an edge)
+        let mut mesh: Option<cdt::Triangulation> = None;
         if atts.len() >= 3 {
             // polygon edges first and bridges last, so that a bridge that
             // crosses a polygon is the constraint reported
@@ -447,7 +446,7 @@ impl Kss {
             // copy (as the construction does), checked exactly below
             let local = |shrink: bool| {
                 let vertices = Vertices::new(world, t, atts.clone(), shrink);
-                cdt::triangulate(atts.len(), &edges, &vertices)
+                cdt::triangulate_with_adjacency(atts.len(), &edges, &vertices)
             };
             let faces = match local(false) {
                 Ok(faces) => faces,
@@ -467,46 +466,48 @@ impl Kss {
             // triangle that is flat does not hold just after `t` and is
             // refused by the caller; a corridor's is checked by its
             // decomposition)
-            for tri in faces {
-                for i in 0..3 {
-                    directed.insert((tri[i], tri[(i + 1) % 3]), tris.len());
-                }
-                tris.push(tri);
-            }
+            mesh = Some(faces);
         }
+        let tris: Vec<[usize; 3]> = mesh
+            .as_ref()
+            .map_or_else(Vec::new, |m| (0..m.len()).map(|f| m.triangle(f)).collect());
         // the faces of R: triangles reached from the inner side of the
         // boundary without crossing it, and ω-faces on new hull edges
         let is_constraint = |x: usize, y: usize| constraints.contains(&(x.min(y), x.max(y)));
         let mut inside = vec![false; tris.len()];
         let mut hull: Vec<(usize, usize)> = Vec::new();
         let mut stack: Vec<usize> = Vec::with_capacity(tris.len());
-        let left_of = |x: usize,
-                       y: usize,
-                       inside: &mut Vec<bool>,
-                       stack: &mut Vec<usize>,
-                       hull: &mut Vec<(usize, usize)>| {
-            match directed.get(&(x, y)) {
-                Some(&f) => {
-                    if !inside[f] {
-                        inside[f] = true;
-                        stack.push(f);
-                    }
+        // (the triangle `f` on the left of the directed edge `(x, y)`, or
+        // a hull edge where there is none)
+        let enter = |f: Option<usize>,
+                     (x, y): (usize, usize),
+                     inside: &mut Vec<bool>,
+                     stack: &mut Vec<usize>,
+                     hull: &mut Vec<(usize, usize)>| match f {
+            Some(f) => {
+                if !inside[f] {
+                    inside[f] = true;
+                    stack.push(f);
                 }
-                None => hull.push((x, y)),
             }
+            None => hull.push((x, y)),
         };
         for &(u, v) in chains.iter().chain(&bridges) {
             if u.is_omega() || v.is_omega() {
                 continue;
             }
-            left_of(index[&u], index[&v], &mut inside, &mut stack, &mut hull);
+            let (x, y) = (index[&u], index[&v]);
+            let f = mesh.as_ref().and_then(|m| m.left_of(x, y));
+            enter(f, (x, y), &mut inside, &mut stack, &mut hull);
         }
         while let Some(f) = stack.pop() {
             let tri = tris[f];
             for i in 0..3 {
                 let (x, y) = (tri[i], tri[(i + 1) % 3]);
                 if !is_constraint(x, y) {
-                    left_of(y, x, &mut inside, &mut stack, &mut hull);
+                    // (the triangle across side `i` holds `(y, x)`)
+                    let g = mesh.as_ref().and_then(|m| m.across(f, i));
+                    enter(g, (y, x), &mut inside, &mut stack, &mut hull);
                 }
             }
         }
@@ -546,12 +547,12 @@ impl Kss {
                 }
             }
         }
-        let mut tri_of: HashMap<usize, usize> =
-            HashMap::with_capacity_and_hasher(faces.len(), Default::default());
+        // (the new triangle of each face that is one)
+        let mut tri_of: Vec<Option<usize>> = vec![None; faces.len()];
         let mut new_tris: Vec<[Att; 3]> = Vec::with_capacity(dead_tris.len() + 2);
         for (fi, f) in faces.iter().enumerate() {
             if is_partition(f) {
-                tri_of.insert(fi, new_tris.len());
+                tri_of[fi] = Some(new_tris.len());
                 new_tris.push(*f);
             }
         }
@@ -590,7 +591,7 @@ impl Kss {
         for &k in &merged {
             let c = &self.corrs[k.0 as usize];
             for e in [c.s, c.t] {
-                if !dead_set.contains(&e.0) {
+                if !is_dead(&e.0) {
                     starts.push(End::Old(e.0, e.1));
                 }
             }
@@ -643,14 +644,14 @@ impl Kss {
                     len_a += la;
                     len_b += lb;
                     (x, y) = (out.0, out.1);
-                    if !dead_set.contains(&out.2 .0) {
+                    if !is_dead(&out.2 .0) {
                         break End::Old(out.2 .0, out.2 .1);
                     }
                     continue;
                 }
                 if let Some(&(fi, sj)) = side_of.get(&(y, x)) {
                     let g = &faces[fi];
-                    if let Some(&ti) = tri_of.get(&fi) {
+                    if let Some(ti) = tri_of[fi] {
                         break End::New(ti, sj as u8);
                     }
                     let on_a;
