@@ -24,7 +24,11 @@ fn main() {
         ..Default::default()
     };
     let state = kss::runner::plain_state_at(&s, &options, time).unwrap();
-    for (c, owners, t) in state.kinetic.certificate_list() {
+    let geo = kss::structure::geo::Geo {
+        world: &state.world,
+        shapes: &state.shapes,
+    };
+    for (c, owners, t) in state.kinetic.certificate_list(&geo) {
         println!(
             "{:?} {:?} {:?} owners {:?} fails {:?}",
             c.kind,
@@ -37,10 +41,6 @@ fn main() {
     for (i, c) in state.kinetic.kss.corrs.iter().enumerate() {
         println!("corridor {i}: {c:?}");
     }
-    let geo = kss::structure::geo::Geo {
-        world: &state.world,
-        shapes: &state.shapes,
-    };
 
     for k in 0..state.kinetic.kss.corrs.len() {
         let faces = state

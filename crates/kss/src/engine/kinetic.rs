@@ -180,12 +180,12 @@ impl KineticEngine {
 
     fn audit_now(&self, world: &World, now: &Time) -> Result<(), RunError> {
         let mut next = world.until().clone();
-        for t in [self.k.next_time(), world.next_change_time()]
+        for t in [self.k.next_time(), world.next_change_time().cloned()]
             .into_iter()
             .flatten()
         {
-            if *t < next {
-                next = t.clone();
+            if t < next {
+                next = t;
             }
         }
         if *now >= next {
@@ -377,7 +377,7 @@ impl KineticEngine {
         }
         let due = match &self.settled {
             None => return Ok(false),
-            Some((t, _)) => !idle && self.k.next_time() == Some(t),
+            Some((t, _)) => !idle && self.k.next_time().as_ref() == Some(t),
         };
         if due {
             return Ok(false);
@@ -654,7 +654,7 @@ impl Finder for KineticEngine {
     fn next_time(&self) -> Option<Time> {
         match &self.stand_in {
             Some(s) => s.brute.next_time(),
-            None => self.k.next_time().cloned(),
+            None => self.k.next_time(),
         }
     }
 
@@ -771,7 +771,7 @@ impl KineticEngine {
                 continue;
             }
             if let Some(a) = &at {
-                if self.k.next_time() != Some(a) {
+                if self.k.next_time().as_ref() != Some(a) {
                     break;
                 }
             }

@@ -18,7 +18,10 @@
 //!    that does not depend on how the queue happened to be built);
 //! 3. among equal `(priority, tie)`, insertion order: every call to
 //!    [`EventQueue::schedule`] takes the next value of a monotone sequence
-//!    number `seq`, and the older event comes first.
+//!    number `seq`, and the older event comes first. (A caller that holds
+//!    an event back and schedules it later in the place it would have had
+//!    takes its number earlier, [`EventQueue::reserve_seq`], and schedules
+//!    with it, [`EventQueue::schedule_at_seq`].)
 //!
 //! [`EventQueue::reschedule`] changes only the priority: the event keeps its
 //! `tie` **and its original sequence number**. (To make a rescheduled event
@@ -366,6 +369,36 @@ impl<P: Ord + Clone + Enclosed, E, const D: usize> EventQueue<P, E, D> {
     pub fn schedule(&mut self, priority: P, tie: u64, payload: E) -> EventKey {
         let seq = self.next_seq;
         self.next_seq += 1;
+        let slot = self.alloc_slot(Entry {
+            priority,
+            tie,
+            seq,
+            payload,
+        });
+        let pos = self.heap.len();
+        self.heap.push(Node::of(slot, &self.entry(slot).priority));
+        self.sift_up(pos);
+        self.stats.scheduled += 1;
+        self.stats.max_len = self.stats.max_len.max(self.heap.len());
+        self.key_of(slot)
+    }
+
+    /// Takes the next insertion sequence number without scheduling anything,
+    /// for an event that is scheduled later with it
+    /// ([`EventQueue::schedule_at_seq`]) and is to keep the place in the
+    /// order (rule 3) that it would have had if scheduled now.
+    pub fn reserve_seq(&mut self) -> u64 {
+        let seq = self.next_seq;
+        self.next_seq += 1;
+        seq
+    }
+
+    /// [`EventQueue::schedule`] with a sequence number taken earlier by
+    /// [`EventQueue::reserve_seq`] (each number at most once, as the order
+    /// needs the triple to be unique among live events; debug builds check
+    /// that it was reserved).
+    pub fn schedule_at_seq(&mut self, priority: P, tie: u64, seq: u64, payload: E) -> EventKey {
+        debug_assert!(seq < self.next_seq, "a sequence number never reserved");
         let slot = self.alloc_slot(Entry {
             priority,
             tie,

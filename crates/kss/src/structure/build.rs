@@ -615,10 +615,7 @@ mod larger_tests {
         // the engine takes it only after the exact checks; then the audit
         let k = crate::structure::kinetic::Kinetic::new(&world, &at).unwrap();
         let now = crate::num::Time::from_rational(at.clone());
-        let next = k
-            .next_time()
-            .expect("b reaches the end of a's edge")
-            .clone();
+        let next = k.next_time().expect("b reaches the end of a's edge");
         assert!(next > now);
         let later = now.rational_between(&next);
         k.audit(&world, &now, &later).unwrap();

@@ -204,8 +204,8 @@ pub fn overlay(
         o.corridors.push(view);
     }
     if highlight > 0 {
-        let mut next: Vec<(&Time, &super::certs::Cert)> = kinetic.scheduled().collect();
-        next.sort_by(|x, y| x.0.cmp(y.0).then_with(|| x.1.p.cmp(&y.1.p)));
+        let mut next: Vec<(Time, &super::certs::Cert)> = kinetic.scheduled(world).collect();
+        next.sort_by(|x, y| x.0.cmp(&y.0).then_with(|| x.1.p.cmp(&y.1.p)));
         for (t, c) in next.into_iter().take(highlight) {
             let [Some(p), Some(q), Some(r)] = c.p.map(pos) else {
                 continue;

@@ -10,7 +10,7 @@ use crate::structure::StructureError;
 
 use super::book::{bridge_end, cert_poly, resting_flat};
 use super::step::each_body;
-use super::Kinetic;
+use super::{Kinetic, QKey};
 use crate::structure::ops::Owner;
 use crate::structure::{CorrId, TriId};
 
@@ -69,10 +69,32 @@ impl Kinetic {
                 }
             }
             let want = p.first_failure_after(now);
-            let got = s
-                .key
-                .and_then(|k| self.queue.get(k))
-                .map(|(t, _)| t.clone());
+            let got = match s.key {
+                Some(QKey::Near(k)) => self.queue.get(k).map(|(t, _)| t.clone()),
+                // (known by its enclosure: the failure lies in it, strictly
+                // after the current instant)
+                Some(QKey::Far(k)) => {
+                    let bounds = self
+                        .far
+                        .get(k)
+                        .map(|(ft, _)| (Time::from_f64(ft.0.lo), Time::from_f64(ft.0.hi), ft.0));
+                    match (&want, bounds) {
+                        (Some(w), Some((Some(lo), Some(hi), _)))
+                            if w > now && lo <= *w && *w <= hi =>
+                        {
+                            want.clone()
+                        }
+                        (_, b) => {
+                            return Err(StructureError::Invariant(format!(
+                                "certificate {:?} in the far queue at {:?}, fails at {want:?}",
+                                c.p,
+                                b.map(|(_, _, iv)| iv)
+                            )))
+                        }
+                    }
+                }
+                None => None,
+            };
             if s.idle {
                 // out of the queue until a bridge of one of its bodies ends,
                 // where it is scheduled again: no failure up to that end
@@ -99,10 +121,10 @@ impl Kinetic {
                 self.idle
             )));
         }
-        if scheduled != self.queue.len() {
+        if scheduled != self.queue.len() + self.far.len() {
             return Err(StructureError::Invariant(format!(
                 "{} queued events for {scheduled} scheduled certificates",
-                self.queue.len()
+                self.queue.len() + self.far.len()
             )));
         }
         self.audit_ids()
@@ -119,10 +141,13 @@ impl Kinetic {
             if self.certs.id(&p) != Some(id) {
                 return bad(format!("certificate {p:?} is not indexed by its id"));
             }
-            if let Some(k) = s.key {
-                if self.queue.get(k).map(|(_, &q)| q) != Some(id) {
-                    return bad(format!("the queued event of {p:?} names another id"));
-                }
+            let queued = match s.key {
+                Some(QKey::Near(k)) => Some(self.queue.get(k).map(|(_, &q)| q)),
+                Some(QKey::Far(k)) => Some(self.far.get(k).map(|(_, e)| e.id)),
+                None => None,
+            };
+            if queued.is_some_and(|q| q != Some(id)) {
+                return bad(format!("the queued event of {p:?} names another id"));
             }
             for b in each_body(&p) {
                 on_bodies += 1;

@@ -10,7 +10,7 @@ use crate::motion::{orient_poly, LinearPoint};
 use crate::num::{
     filtered_failure, filtered_root, ExactTime, Filtered, Interval, Poly, Sign, Time,
 };
-use crate::sim::{EventKey, EventQueue};
+use crate::sim::EventQueue;
 use crate::structure::certs::Cert;
 use crate::structure::geo::{Geo, PointRef};
 use crate::structure::ops::Owner;
@@ -21,7 +21,9 @@ use crate::world::BodyId;
 use super::instant::InstantState;
 use super::step::each_body;
 use super::Owned;
-use super::{due_time, fingerprint, CertId, Fingerprint, Kinetic, Scheduled};
+use super::{
+    due_time, fingerprint, CertId, FarEntry, FarTime, Fingerprint, Kinetic, QKey, Scheduled,
+};
 use crate::structure::local::MAX_CERTS;
 
 /// The certificate function of `c`, oriented so that it is positive while
@@ -238,15 +240,7 @@ pub(super) fn failure_time(
     bump(Counter::FailureTimes);
     // (`None` only if a point is no vertex of its body's approximation,
     // which the enclosures already rule out)
-    let deferred = |iv: Interval| -> Option<Time> {
-        let [a, b, d] = c.p.map(|x| world.point_ref(x));
-        let src = DeferredFailure {
-            p: [a?, b?, d?],
-            kind: c.kind,
-            sign: c.sign,
-        };
-        Some(Time::deferred(iv, src))
-    };
+    let deferred = |iv: Interval| deferred_failure(world, c, iv);
     if let Some(e) = e {
         match filtered_failure(e, now.interval()) {
             Filtered::Never => return None,
@@ -455,22 +449,39 @@ pub(super) fn holds_by_motion_bound(world: &Geo, c: &Cert, now: &Time, end: &Tim
 /// `now`, if it has one: its queue key and [`Scheduled::fp`]. On the queue
 /// alone (a certificate of the book may be borrowed meanwhile).
 fn enqueue_in(
-    queue: &mut EventQueue<Time, CertId>,
+    queues: Queues<'_>,
     world: &Geo,
     (c, id): (&Cert, CertId),
     now: &Time,
-) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
-    enqueue_with(queue, world, (c, id), now, cert_enclosure(world, c))
+) -> (Option<QKey>, Option<Box<(Fingerprint, bool)>>) {
+    enqueue_with(queues, world, (c, id), now, cert_enclosure(world, c))
 }
 
-/// [`enqueue_in`] given `e`, the certificate's [`cert_enclosure`].
+/// The two queues of the book ([`Kinetic::queue`], [`Kinetic::far`]).
+type Queues<'a> = (
+    &'a mut EventQueue<Time, CertId>,
+    &'a mut EventQueue<FarTime, FarEntry>,
+);
+
+/// [`enqueue_in`] given `e`, the certificate's [`cert_enclosure`]. A
+/// failure time that the filter isolates strictly after `now` goes to the
+/// far queue by its enclosure ([`far_failure`]); the others, exact or
+/// deferred, to the queue of exact times.
 fn enqueue_with(
-    queue: &mut EventQueue<Time, CertId>,
+    (queue, far): Queues<'_>,
     world: &Geo,
     (c, id): (&Cert, CertId),
     now: &Time,
     e: Option<[Interval; 3]>,
-) -> (Option<EventKey>, Option<Box<(Fingerprint, bool)>>) {
+) -> (Option<QKey>, Option<Box<(Fingerprint, bool)>>) {
+    if let Some(iv) = e.and_then(|e| far_failure(world, c, now, e)) {
+        let entry = FarEntry {
+            id,
+            tie: tie(world, &c.p),
+            seq: queue.reserve_seq(),
+        };
+        return (Some(QKey::Far(far.schedule(FarTime(iv), 0, entry))), None);
+    }
     let Some(t) = failure_time(world, c, now, e) else {
         return (None, None);
     };
@@ -492,7 +503,41 @@ fn enqueue_with(
         ))),
         None => fingerprint(world, &c.p).map(|f| Box::new((f, root))),
     };
-    (Some(queue.schedule(t, tie(world, &c.p), id)), fp)
+    (
+        Some(QKey::Near(queue.schedule(t, tie(world, &c.p), id))),
+        fp,
+    )
+}
+
+/// The enclosure of certificate `c`'s failure time after `now` where the
+/// f64 filter isolates it strictly after `now` (`e`: its
+/// [`cert_enclosure`]), as [`failure_time`] would defer it: the exact time
+/// is that deferred time ([`deferred_failure`]), made when it could be the
+/// next failure.
+fn far_failure(world: &Geo, c: &Cert, now: &Time, e: [Interval; 3]) -> Option<Interval> {
+    let after = now.interval();
+    match filtered_failure(e, after) {
+        Filtered::At(iv) if iv.lo > after.hi => {
+            // (the enclosure `e` exists only for vertices of the bodies'
+            // views, whose exact positions the deferred time reads)
+            debug_assert!(c.p.iter().all(|&x| world.point_ref(x).is_some()));
+            crate::structure::counters::bump(crate::structure::counters::Counter::FailureTimes);
+            Some(iv)
+        }
+        _ => None,
+    }
+}
+
+/// The deferred failure time of certificate `c` in enclosure `iv`: the
+/// root the filter isolated ([`failure_time`], [`far_failure`]).
+pub(super) fn deferred_failure(world: &Geo, c: &Cert, iv: Interval) -> Option<Time> {
+    let [a, b, d] = c.p.map(|x| world.point_ref(x));
+    let src = DeferredFailure {
+        p: [a?, b?, d?],
+        kind: c.kind,
+        sign: c.sign,
+    };
+    Some(Time::deferred(iv, src))
 }
 
 /// [`Kinetic::due_now`] on the queue and the instant's state alone (a
@@ -501,11 +546,13 @@ fn due_in(
     queue: &EventQueue<Time, CertId>,
     instant: &InstantState,
     p: &[Att; 3],
-    key: Option<EventKey>,
+    key: Option<QKey>,
     now: &Time,
 ) -> bool {
     match key {
-        Some(k) => queue.get(k).is_some_and(|(t, _)| t == now),
+        Some(QKey::Near(k)) => queue.get(k).is_some_and(|(t, _)| t == now),
+        // (its failure is strictly after the current instant)
+        Some(QKey::Far(_)) => false,
         None => {
             instant.waiting.contains(p)
                 || instant.later.as_ref().is_some_and(|(_, ps)| ps.contains(p))
@@ -688,7 +735,7 @@ impl Kinetic {
     /// Schedule certificate `c`, just stored under `id` as [`unscheduled`]:
     /// its failure time queued, its bodies' sets.
     fn schedule_stored(&mut self, world: &Geo, c: Cert, id: CertId, now: &Time) {
-        let (key, fp) = enqueue_in(&mut self.queue, world, (&c, id), now);
+        let (key, fp) = enqueue_in((&mut self.queue, &mut self.far), world, (&c, id), now);
         let s = self.certs.at_mut(id).expect("just stored");
         (s.key, s.fp) = (key, fp);
         for b in each_body(&c.p) {
@@ -703,7 +750,7 @@ impl Kinetic {
     /// `now`: queued at `now`, or popped at this instant and set aside. A
     /// failing certificate is always one of these, so the exact test need not
     /// run for the others (most of the certificates an operation replaces).
-    pub(super) fn due_now(&self, p: &[Att; 3], key: Option<EventKey>, now: &Time) -> bool {
+    pub(super) fn due_now(&self, p: &[Att; 3], key: Option<QKey>, now: &Time) -> bool {
         due_in(&self.queue, &self.instant, p, key, now)
     }
 
@@ -720,8 +767,48 @@ impl Kinetic {
                 }
             }
             if let Some(k) = s.key {
+                self.unqueue(k);
+            }
+        }
+    }
+
+    /// Take the event of `key` out of its queue.
+    pub(super) fn unqueue(&mut self, key: QKey) {
+        match key {
+            QKey::Near(k) => {
                 self.queue.cancel(k);
             }
+            QKey::Far(k) => {
+                self.far.cancel(k);
+            }
+        }
+    }
+
+    /// Move into the queue of exact times every certificate of the far
+    /// queue whose failure time could be no later than that queue's
+    /// first (all of them while it is empty), each with the deferred time
+    /// its enclosure was isolated for and the place in the order it had
+    /// when scheduled: afterwards the queue's first failure is the next
+    /// one. Called before the queue is read for the next failure.
+    pub(super) fn admit(&mut self, world: &Geo) {
+        while let Some((fk, ft, _, &entry)) = self.far.peek() {
+            let ft = *ft;
+            if let Some((_, t, _, _)) = self.queue.peek() {
+                if ft.0.lo > t.interval().hi {
+                    return;
+                }
+            }
+            self.far.cancel(fk);
+            let Some(s) = self.certs.at_mut(entry.id) else {
+                continue;
+            };
+            debug_assert_eq!(s.key, Some(QKey::Far(fk)), "a far event of another key");
+            let t = deferred_failure(world, &s.cert, ft.0)
+                .expect("the points of a far certificate are vertices");
+            let key = self
+                .queue
+                .schedule_at_seq(t, entry.tie, entry.seq, entry.id);
+            s.key = Some(QKey::Near(key));
         }
     }
 
@@ -730,7 +817,10 @@ impl Kinetic {
     pub(super) fn idle_until_bridge_end(&mut self, id: CertId) {
         if let Some(s) = self.certs.at_mut(id) {
             if let Some(k) = s.key.take() {
-                self.queue.cancel(k);
+                match k {
+                    QKey::Near(k) => self.queue.cancel(k),
+                    QKey::Far(k) => self.far.cancel(k).map(|e| e.id),
+                };
             }
             (s.fp, s.popped) = (None, None);
             if !s.idle {
@@ -765,10 +855,14 @@ impl Kinetic {
             self.idle -= 1;
         }
         if let Some(k) = s.key.take() {
-            self.queue.cancel(k);
+            match k {
+                QKey::Near(k) => self.queue.cancel(k),
+                QKey::Far(k) => self.far.cancel(k).map(|e| e.id),
+            };
         }
         let e = e.unwrap_or_else(|| cert_enclosure(world, &s.cert));
-        let (key, fp) = enqueue_with(&mut self.queue, world, (&s.cert, id), now, e);
+        let queues = (&mut self.queue, &mut self.far);
+        let (key, fp) = enqueue_with(queues, world, (&s.cert, id), now, e);
         (s.key, s.fp, s.popped) = (key, fp, None);
         self.max_active = self.max_active.max(self.active_now());
     }

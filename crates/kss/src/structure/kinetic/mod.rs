@@ -208,9 +208,10 @@ type Owners = smallvec::SmallVec<[Owner; 2]>;
 #[derive(Clone, Debug)]
 struct Scheduled {
     cert: Cert,
-    /// `None` when the certificate never fails on the current motions, or
-    /// while it waits (a contact reported at the current instant).
-    key: Option<EventKey>,
+    /// Where it waits for its failure ([`QKey`]): `None` when the
+    /// certificate never fails on the current motions, or while it waits
+    /// (a contact reported at the current instant).
+    key: Option<QKey>,
     owners: Owners,
     /// What the three points were ([`Geo::point_id`]) when the failure
     /// time under `key` was computed (`None` when it has none): while they
@@ -231,15 +232,84 @@ struct Scheduled {
     idle: bool,
 }
 
+/// Where a scheduled certificate waits: in the queue of exact failure
+/// times ([`Kinetic::queue`]), or in the far queue ([`Kinetic::far`]),
+/// known by an enclosure of its failure time until that time could be the
+/// next failure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum QKey {
+    /// In the queue of exact times.
+    Near(EventKey),
+    /// In the far queue.
+    Far(EventKey),
+}
+
+impl QKey {
+    /// The key in the queue of exact times (`None` in the far queue).
+    fn near(self) -> Option<EventKey> {
+        match self {
+            QKey::Near(k) => Some(k),
+            QKey::Far(_) => None,
+        }
+    }
+}
+
+/// A failure time known by a certified enclosure alone: a root of the
+/// certificate's function that the f64 filter isolated strictly after the
+/// instant it was computed at (the failure time itself, made exact only
+/// when it could be the next failure). Ordered by its lower bound, then
+/// its upper bound.
+#[derive(Clone, Copy, Debug)]
+struct FarTime(crate::num::Interval);
+
+impl PartialEq for FarTime {
+    fn eq(&self, other: &FarTime) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for FarTime {}
+
+impl PartialOrd for FarTime {
+    fn partial_cmp(&self, other: &FarTime) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for FarTime {
+    fn cmp(&self, other: &FarTime) -> std::cmp::Ordering {
+        (self.0.lo.total_cmp(&other.0.lo)).then(self.0.hi.total_cmp(&other.0.hi))
+    }
+}
+
+impl crate::sim::Enclosed for FarTime {
+    #[inline]
+    fn enclosure(&self) -> (f64, f64) {
+        (self.0.lo, self.0.lo)
+    }
+}
+
+/// A certificate in the far queue: its id, and the tie class and the
+/// sequence number it takes into the queue of exact times
+/// ([`EventQueue::reserve_seq`]: the place it had if queued there at once).
+#[derive(Clone, Copy, Debug)]
+struct FarEntry {
+    id: CertId,
+    tie: u64,
+    seq: u64,
+}
+
 /// The failure time a certificate is due at: its queued time, or the one it
-/// was popped at.
+/// was popped at (`None` in the far queue: it is not due before the
+/// enclosure of its failure time, which lies after the current instant).
 fn due_time<'a>(
     queue: &'a EventQueue<Time, CertId>,
-    key: Option<EventKey>,
+    key: Option<QKey>,
     popped: &'a Option<Box<Time>>,
 ) -> Option<&'a Time> {
     match key {
-        Some(k) => queue.get(k).map(|(t, _)| t),
+        Some(QKey::Near(k)) => queue.get(k).map(|(t, _)| t),
+        Some(QKey::Far(_)) => None,
         None => popped.as_deref(),
     }
 }
@@ -274,7 +344,16 @@ pub struct Kinetic {
     owned_tri: Vec<Owned>,
     /// The certificates each corridor owns.
     owned_corr: Vec<Owned>,
+    /// The certificates whose exact failure time could be the next one
+    /// (or the one being handled), by that time.
     queue: EventQueue<Time, CertId>,
+    /// The other scheduled certificates, by an enclosure of their failure
+    /// times: each fails strictly after the current instant and after the
+    /// first failure in `queue` ([`Kinetic::admit`] moves them over when
+    /// that changes). No exact (deferred) time is made for a certificate
+    /// that is dropped before it could be the next failure, which is most
+    /// of them.
+    far: EventQueue<FarTime, FarEntry>,
     /// Certificates out of the queue until a bridge ends (`Scheduled::idle`):
     /// counted as scheduled.
     idle: usize,
@@ -297,16 +376,22 @@ pub struct Kinetic {
 
 impl Kinetic {
     /// Every certificate with its owners and scheduled failure time (a
-    /// debugging view, in the order of their points).
-    pub fn certificate_list(&self) -> Vec<(Cert, Vec<Owner>, Option<Time>)> {
+    /// debugging view, in the order of their points; `world` is the view
+    /// the structure sees the bodies through).
+    pub fn certificate_list(&self, world: &Geo) -> Vec<(Cert, Vec<Owner>, Option<Time>)> {
         let mut keys: Vec<&[Att; 3]> = self.certs.keys().collect();
         keys.sort();
         keys.into_iter()
             .map(|p| {
                 let s = self.certs.get(p).expect("a stored certificate");
-                let t = s
-                    .key
-                    .and_then(|k| self.queue.get(k).map(|(t, _)| t.clone()));
+                let t = match s.key {
+                    Some(QKey::Near(k)) => self.queue.get(k).map(|(t, _)| t.clone()),
+                    Some(QKey::Far(k)) => self
+                        .far
+                        .get(k)
+                        .and_then(|(ft, _)| book::deferred_failure(world, &s.cert, ft.0)),
+                    None => None,
+                };
                 (s.cert, s.owners.to_vec(), t)
             })
             .collect()
@@ -396,11 +481,23 @@ impl Kinetic {
         *self = fresh;
     }
 
-    /// The earliest scheduled failure, if any.
-    pub fn next_time(&self) -> Option<&Time> {
-        match &self.instant.later {
+    /// The earliest scheduled failure, if any, or an instant no later than
+    /// it (the lower bound of a failure time in the far queue that may
+    /// come first: every failure after the current instant is at this
+    /// instant or later).
+    pub fn next_time(&self) -> Option<Time> {
+        let near = match &self.instant.later {
             Some((t, _)) => Some(t),
             None => self.queue.peek().map(|(_, t, _, _)| t),
+        };
+        let far = self
+            .far
+            .peek()
+            .and_then(|(_, ft, _, _)| Time::from_f64(ft.0.lo));
+        match (near, far) {
+            (Some(t), Some(lo)) if lo < *t => Some(lo),
+            (Some(t), _) => Some(t.clone()),
+            (None, lo) => lo,
         }
     }
 
@@ -412,7 +509,7 @@ impl Kinetic {
 
     /// Certificates in the queue or out of it until a bridge ends.
     fn active_now(&self) -> usize {
-        self.queue.len() + self.idle
+        self.queue.len() + self.far.len() + self.idle
     }
 
     /// All certificates, scheduled or not.
@@ -422,13 +519,18 @@ impl Kinetic {
 
     // ----- read-only views (for pictures; no effect on the simulation) -----
 
-    /// Every certificate scheduled in the event queue with its failure time,
-    /// in no particular order (certificates that never fail on the current
-    /// motions, or that wait for a collision response, are not listed).
-    pub fn scheduled(&self) -> impl Iterator<Item = (&Time, &Cert)> + '_ {
-        self.queue
-            .iter()
-            .filter_map(|(_, t, _, &id)| self.certs.at(id).map(|s| (t, &s.cert)))
+    /// Every certificate scheduled in the event queues with its failure
+    /// time, in no particular order (certificates that never fail on the
+    /// current motions, or that wait for a collision response, are not
+    /// listed); `world` is the view the structure sees the bodies through.
+    pub fn scheduled<'a>(&'a self, world: &'a Geo) -> impl Iterator<Item = (Time, &'a Cert)> + 'a {
+        let near = (self.queue.iter())
+            .filter_map(|(_, t, _, &id)| self.certs.at(id).map(|s| (t.clone(), &s.cert)));
+        let far = self.far.iter().filter_map(|(_, ft, _, e)| {
+            let s = self.certs.at(e.id)?;
+            Some((book::deferred_failure(world, &s.cert, ft.0)?, &s.cert))
+        });
+        near.chain(far)
     }
 }
 

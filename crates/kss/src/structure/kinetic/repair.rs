@@ -16,7 +16,7 @@ use super::book::{cert_poly, due_is_failing, resting_flat};
 use super::instant::Broken;
 use super::tally::Rebuild;
 use super::Owned;
-use super::{due_time, CertId, Kinetic};
+use super::{due_time, CertId, Kinetic, QKey};
 
 /// The local repair's candidate sets ([`Kinetic::repair_around`]): queue
 /// `set` grown by the bodies `more` (with the number of growth rounds that
@@ -376,7 +376,7 @@ impl Kinetic {
         (bodies, singles): (&[BodyId], bool),
         now: &Time,
     ) -> Result<bool, StructureError> {
-        let hi = self.search_start(now)?;
+        let hi = self.search_start(world, now)?;
         // all of them together first (the broken faces may lie between any
         // two), then each alone
         let mut sets: Vec<Vec<BodyId>> = vec![bodies.to_vec()];
@@ -476,7 +476,7 @@ impl Kinetic {
             return Ok(false);
         };
         let mut set = vec![b, first];
-        let hi = self.search_start(now)?;
+        let hi = self.search_start(world, now)?;
         for _round in 0..4 {
             let mut hi_b = hi.clone();
             let mut more: Vec<BodyId> = Vec::new();
@@ -703,7 +703,7 @@ impl Kinetic {
         now: &Time,
         kind: Rebuild,
     ) -> Result<(), StructureError> {
-        let mut hi = self.search_start(now)?;
+        let mut hi = self.search_start(world, now)?;
         trace!("rebuild_after {now}: search from {hi:?}");
         for _ in 0..200 {
             let at = now.rational_between(&hi);
@@ -751,11 +751,11 @@ impl Kinetic {
     /// moved into each other and every attempt fails (each a whole
     /// triangulation); at most one time unit later. (The f64 only bounds the
     /// search from above: any instant after `now` would do.)
-    pub(super) fn search_start(&self, now: &Time) -> Result<Time, StructureError> {
+    pub(super) fn search_start(&self, world: &Geo, now: &Time) -> Result<Time, StructureError> {
         let f = now.to_f64();
         let mut hi = Time::from_f64(f + f.abs().max(1.0))
             .ok_or_else(|| StructureError::Local("time out of range".into()))?;
-        if let Some(next) = self.queue_times_after(now) {
+        if let Some(next) = self.queue_times_after(world, now) {
             if next < hi {
                 hi = next;
             }
@@ -763,21 +763,37 @@ impl Kinetic {
         Ok(hi)
     }
 
-    /// The earliest queued failure time strictly after `now` (O(queue)).
-    pub(super) fn queue_times_after(&self, now: &Time) -> Option<Time> {
+    /// The earliest queued failure time strictly after `now` (O(queue)),
+    /// the far queue's included (made exact where its enclosure does not
+    /// lie after the earliest other; a structure left behind by the
+    /// current time, as a stand-in's, may hold some before `now`).
+    pub(super) fn queue_times_after(&self, world: &Geo, now: &Time) -> Option<Time> {
         // the earliest queued time, unless failures of this very instant
         // are still queued
-        if let Some((_, t, _, _)) = self.queue.peek() {
-            if t > now {
-                return Some(t.clone());
+        let mut best = match self.queue.peek() {
+            Some((_, t, _, _)) if t > now => Some(t.clone()),
+            _ => self
+                .queue
+                .iter()
+                .map(|(_, t, _, _)| t)
+                .filter(|t| *t > now)
+                .min()
+                .cloned(),
+        };
+        for (_, ft, _, entry) in self.far.iter() {
+            if best.as_ref().is_some_and(|b| ft.0.lo > b.interval().hi) {
+                continue;
+            }
+            let Some(s) = self.certs.at(entry.id) else {
+                continue;
+            };
+            if let Some(t) = super::book::deferred_failure(world, &s.cert, ft.0) {
+                if t > *now && best.as_ref().is_none_or(|b| t < *b) {
+                    best = Some(t);
+                }
             }
         }
-        self.queue
-            .iter()
-            .map(|(_, t, _, _)| t)
-            .filter(|t| *t > now)
-            .min()
-            .cloned()
+        best
     }
 
     /// Coarsen the approximations (in `shapes`) where the last operation
@@ -808,8 +824,11 @@ impl Kinetic {
                         let p = &s.cert.p;
                         p.contains(&kv)
                             || (p.contains(&qv)
-                                && s.key.is_none_or(|key| {
-                                    queue.get(key).is_some_and(|(tq, _)| tq == t)
+                                && s.key.is_none_or(|key| match key {
+                                    QKey::Near(key) => {
+                                        queue.get(key).is_some_and(|(tq, _)| tq == t)
+                                    }
+                                    QKey::Far(_) => false,
                                 }))
                     })
                 })

@@ -17,7 +17,7 @@ use crate::world::BodyId;
 use super::book::due_is_failing;
 use super::instant::Broken;
 use super::tally::Rebuild;
-use super::{due_time, Kinetic, Step};
+use super::{due_time, Kinetic, QKey, Step};
 
 /// How many handled certificates [`Kinetic::repair_cycle`] looks back at.
 pub(super) const RECENT: usize = 8;
@@ -259,6 +259,9 @@ impl Kinetic {
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, StructureError> {
+        // (the far queue's certificates that could fail first are moved
+        // into the queue of exact times: its head is then the next failure)
+        self.admit(world);
         let head = self
             .queue
             .peek()
@@ -288,7 +291,7 @@ impl Kinetic {
             StructureError::Invariant(format!("queued certificate {id:?} unknown"))
         })?;
         let p = s.cert.p;
-        if s.key != Some(key) {
+        if s.key != Some(QKey::Near(key)) {
             return Err(StructureError::Local(format!(
                 "certificate {p:?} scheduled twice"
             )));
@@ -686,6 +689,7 @@ impl Kinetic {
                     let s = self.certs.get(&q)?;
                     let due = s
                         .key
+                        .and_then(QKey::near)
                         .is_some_and(|key| self.queue.get(key).is_some_and(|(tq, _)| *tq == t));
                     let at = due_time(&self.queue, s.key, &s.popped);
                     (q != p && due && due_is_failing(world, &s.cert, (s.fp.as_deref(), at), &t))
@@ -694,7 +698,9 @@ impl Kinetic {
                 if let Some((_tri, q)) = collapsing {
                     trace!("triangle {} collapses first", _tri.0);
                     if let Some(s) = self.certs.get_mut(&q) {
-                        if let Some(key) = s.key.take() {
+                        // (due at this instant: in the queue of exact times)
+                        if let Some(key) = s.key.and_then(QKey::near) {
+                            s.key = None;
                             // (the instant's time it keeps instead of its
                             // own does not hold its points: the book keeps
                             // them, see `book::schedule_fp`)
@@ -752,7 +758,9 @@ impl Kinetic {
             // (out of the queue: it never fails, or holds until a bridge
             // ends; the one being handled was popped)
             let later = match s.key {
-                Some(key) => self.queue.get(key).is_some_and(|(tq, _)| tq != t),
+                Some(QKey::Near(key)) => self.queue.get(key).is_some_and(|(tq, _)| tq != t),
+                // (its failure is strictly after the current instant)
+                Some(QKey::Far(_)) => true,
                 None => self.instant.handling != Some(s.cert.p),
             };
             if s.cert.kind == CertKind::Junction && later && out.try_push(s.cert).is_err() {

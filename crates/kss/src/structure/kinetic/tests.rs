@@ -17,7 +17,7 @@ fn scheduled_certificates_audit_clean_before_the_first_event() {
             let world = Geo::plain(&world);
             let k = Kinetic::new(&world, &Rational::zero()).unwrap();
             let now = Time::zero();
-            let Some(next) = k.next_time().cloned() else {
+            let Some(next) = k.next_time() else {
                 continue;
             };
             if next == now {
@@ -43,7 +43,7 @@ fn the_audit_reports_ids_out_of_step_with_the_records() {
     let fresh = || Kinetic::new(&world, &Rational::zero()).unwrap();
     let k = fresh();
     let now = Time::zero();
-    let next = k.next_time().cloned().expect("a scheduled failure");
+    let next = k.next_time().expect("a scheduled failure");
     assert!(next > now);
     let at = now.rational_between(&next);
     k.audit(&world, &now, &at).unwrap();
@@ -70,7 +70,10 @@ fn the_audit_reports_ids_out_of_step_with_the_records() {
     // its queued event naming another certificate
     let mut k = fresh();
     let key = k.certs.at(id).unwrap().key.unwrap();
-    *k.queue.payload_mut(key).unwrap() = other;
+    match key {
+        QKey::Near(key) => *k.queue.payload_mut(key).unwrap() = other,
+        QKey::Far(key) => k.far.payload_mut(key).unwrap().id = other,
+    }
     assert!(k.audit(&world, &now, &at).is_err());
 }
 
@@ -277,7 +280,7 @@ fn pops_in_place_keep_the_structure_valid() {
                     world: &world,
                     shapes: &shapes,
                 };
-                let Some(next) = k.next_time().cloned() else {
+                let Some(next) = k.next_time() else {
                     continue;
                 };
                 if next == now {
