@@ -479,6 +479,13 @@ fn enqueue_with(
             id,
             tie: tie(world, &c.p),
             seq: queue.reserve_seq(),
+            #[cfg(debug_assertions)]
+            points: None,
+        };
+        #[cfg(debug_assertions)]
+        let entry = FarEntry {
+            points: fingerprint(world, &c.p),
+            ..entry
         };
         return (Some(QKey::Far(far.schedule(FarTime(iv), 0, entry))), None);
     }
@@ -513,8 +520,18 @@ fn enqueue_with(
 /// f64 filter isolates it strictly after `now` (`e`: its
 /// [`cert_enclosure`]), as [`failure_time`] would defer it: the exact time
 /// is that deferred time ([`deferred_failure`]), made when it could be the
-/// next failure.
+/// next failure. Only for points on polygons that are not approximated:
+/// their places change only with their bodies' motions, and every motion
+/// change schedules the certificates of its bodies again, so the points
+/// read when the time is made are the ones the enclosure was computed for
+/// (an approximation's vertices move when it is refined, and a
+/// certificate on them keeps the time of the points it was computed for:
+/// see [`Scheduled::fp`]).
 fn far_failure(world: &Geo, c: &Cert, now: &Time, e: [Interval; 3]) -> Option<Interval> {
+    let real = |a: &Att| matches!(a.obj, Obj::Body(b) if world.shapes.approx(b).is_none());
+    if !c.p.iter().all(real) {
+        return None;
+    }
     let after = now.interval();
     match filtered_failure(e, after) {
         Filtered::At(iv) if iv.lo > after.hi => {
@@ -803,6 +820,13 @@ impl Kinetic {
                 continue;
             };
             debug_assert_eq!(s.key, Some(QKey::Far(fk)), "a far event of another key");
+            #[cfg(debug_assertions)]
+            assert_eq!(
+                fingerprint(world, &s.cert.p),
+                entry.points,
+                "the points of far certificate {:?} changed",
+                s.cert.p
+            );
             let t = deferred_failure(world, &s.cert, ft.0)
                 .expect("the points of a far certificate are vertices");
             let key = self

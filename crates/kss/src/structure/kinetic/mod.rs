@@ -297,6 +297,10 @@ struct FarEntry {
     id: CertId,
     tie: u64,
     seq: u64,
+    /// (debug builds: the points' fingerprint when it was scheduled, the
+    /// same when its exact time is made)
+    #[cfg(debug_assertions)]
+    points: Option<Fingerprint>,
 }
 
 /// The failure time a certificate is due at: its queued time, or the one it
