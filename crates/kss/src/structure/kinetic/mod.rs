@@ -352,11 +352,11 @@ pub struct Kinetic {
     /// (or the one being handled), by that time.
     queue: EventQueue<Time, CertId>,
     /// The other scheduled certificates, by an enclosure of their failure
-    /// times: each fails strictly after the current instant and after the
-    /// first failure in `queue` ([`Kinetic::admit`] moves them over when
-    /// that changes). No exact (deferred) time is made for a certificate
-    /// that is dropped before it could be the next failure, which is most
-    /// of them.
+    /// times: each fails strictly after the current instant, and
+    /// [`Kinetic::admit`] moves over those that could fail no later than
+    /// the first failure in `queue` before that queue is read. No exact
+    /// (deferred) time is made for a certificate that is dropped before it
+    /// could be the next failure, which is most of them.
     far: EventQueue<FarTime, FarEntry>,
     /// Certificates out of the queue until a bridge ends (`Scheduled::idle`):
     /// counted as scheduled.
