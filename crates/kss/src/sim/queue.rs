@@ -367,20 +367,8 @@ impl<P: Ord + Clone + Enclosed, E, const D: usize> EventQueue<P, E, D> {
     ///
     /// If more than `u32::MAX - 1` slots would be needed.
     pub fn schedule(&mut self, priority: P, tie: u64, payload: E) -> EventKey {
-        let seq = self.next_seq;
-        self.next_seq += 1;
-        let slot = self.alloc_slot(Entry {
-            priority,
-            tie,
-            seq,
-            payload,
-        });
-        let pos = self.heap.len();
-        self.heap.push(Node::of(slot, &self.entry(slot).priority));
-        self.sift_up(pos);
-        self.stats.scheduled += 1;
-        self.stats.max_len = self.stats.max_len.max(self.heap.len());
-        self.key_of(slot)
+        let seq = self.reserve_seq();
+        self.schedule_at_seq(priority, tie, seq, payload)
     }
 
     /// Takes the next insertion sequence number without scheduling anything,

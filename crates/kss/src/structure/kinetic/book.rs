@@ -463,6 +463,18 @@ type Queues<'a> = (
     &'a mut EventQueue<FarTime, FarEntry>,
 );
 
+/// Take the event of `key` out of its queue.
+fn cancel_in((queue, far): Queues<'_>, key: QKey) {
+    match key {
+        QKey::Near(k) => {
+            queue.cancel(k);
+        }
+        QKey::Far(k) => {
+            far.cancel(k);
+        }
+    }
+}
+
 /// [`enqueue_in`] given `e`, the certificate's [`cert_enclosure`]. A
 /// failure time that the filter isolates strictly after `now` goes to the
 /// far queue by its enclosure ([`far_failure`]); the others, exact or
@@ -784,19 +796,7 @@ impl Kinetic {
                 }
             }
             if let Some(k) = s.key {
-                self.unqueue(k);
-            }
-        }
-    }
-
-    /// Take the event of `key` out of its queue.
-    pub(super) fn unqueue(&mut self, key: QKey) {
-        match key {
-            QKey::Near(k) => {
-                self.queue.cancel(k);
-            }
-            QKey::Far(k) => {
-                self.far.cancel(k);
+                cancel_in((&mut self.queue, &mut self.far), k);
             }
         }
     }
@@ -841,10 +841,7 @@ impl Kinetic {
     pub(super) fn idle_until_bridge_end(&mut self, id: CertId) {
         if let Some(s) = self.certs.at_mut(id) {
             if let Some(k) = s.key.take() {
-                match k {
-                    QKey::Near(k) => self.queue.cancel(k),
-                    QKey::Far(k) => self.far.cancel(k).map(|e| e.id),
-                };
+                cancel_in((&mut self.queue, &mut self.far), k);
             }
             (s.fp, s.popped) = (None, None);
             if !s.idle {
@@ -879,10 +876,7 @@ impl Kinetic {
             self.idle -= 1;
         }
         if let Some(k) = s.key.take() {
-            match k {
-                QKey::Near(k) => self.queue.cancel(k),
-                QKey::Far(k) => self.far.cancel(k).map(|e| e.id),
-            };
+            cancel_in((&mut self.queue, &mut self.far), k);
         }
         let e = e.unwrap_or_else(|| cert_enclosure(world, &s.cert));
         let queues = (&mut self.queue, &mut self.far);
