@@ -1251,7 +1251,16 @@ impl<'a> Geo<'a> {
     /// exposed): [`PointRef::linear`] is [`Geo::point`]`(a)` for the motion
     /// of now.
     pub fn point_ref(&self, a: Att) -> Option<PointRef> {
-        let (b, (i, k)) = self.linear_key(a)?;
+        let (b, key) = self.linear_key(a)?;
+        self.point_ref_of(b, key)
+    }
+
+    /// The body-frame point `key` of body `b` (the second part of a
+    /// [`Geo::point_id`], which stays valid however the approximation
+    /// changes) as a [`PointRef`], moving by the body's frame of now
+    /// (`None` for an approximation vertex of a body that is not
+    /// approximated).
+    pub fn point_ref_of(&self, b: BodyId, (i, k): (u32, u32)) -> Option<PointRef> {
         let body = self.world.body(b);
         let src = if i == u32::MAX {
             PointSrc::Real(body.shape.clone(), k)
@@ -1371,6 +1380,13 @@ impl<'a> Geo<'a> {
     pub fn point_id(&self, a: Att) -> Option<(u64, (u32, u32))> {
         let (b, key) = self.linear_key(a)?;
         Some((self.world.body(b).frame.uid(), key))
+    }
+
+    /// Which body-frame point of its body vertex `a` is now: the second
+    /// part of [`Geo::point_id`], without the frame ([`Geo::point_ref_of`]
+    /// reads it back).
+    pub fn body_point(&self, a: Att) -> Option<(u32, u32)> {
+        self.linear_key(a).map(|(_, key)| key)
     }
 
     /// The body of `a` and which body-frame point it is: `(u32::MAX, v)`

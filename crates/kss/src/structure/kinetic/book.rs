@@ -486,18 +486,16 @@ fn enqueue_with(
     now: &Time,
     e: Option<[Interval; 3]>,
 ) -> (Option<QKey>, Option<Box<(Fingerprint, bool)>>) {
-    if let Some(iv) = e.and_then(|e| far_failure(world, c, now, e)) {
+    if let Some((iv, keys)) = e.and_then(|e| far_failure(world, c, now, e)) {
         let entry = FarEntry {
             id,
             tie: tie(world, &c.p),
             seq: queue.reserve_seq(),
+            keys,
             #[cfg(debug_assertions)]
-            points: None,
-        };
-        #[cfg(debug_assertions)]
-        let entry = FarEntry {
-            points: fingerprint(world, &c.p),
-            ..entry
+            frames: fingerprint(world, &c.p)
+                .expect("the points of a far certificate are vertices")
+                .map(|(uid, _)| uid),
         };
         return (Some(QKey::Far(far.schedule(FarTime(iv), 0, entry))), None);
     }
@@ -530,31 +528,53 @@ fn enqueue_with(
 
 /// The enclosure of certificate `c`'s failure time after `now` where the
 /// f64 filter isolates it strictly after `now` (`e`: its
-/// [`cert_enclosure`]), as [`failure_time`] would defer it: the exact time
-/// is that deferred time ([`deferred_failure`]), made when it could be the
-/// next failure. Only for points on polygons that are not approximated:
-/// their places change only with their bodies' motions, and every motion
-/// change schedules the certificates of its bodies again, so the points
-/// read when the time is made are the ones the enclosure was computed for
-/// (an approximation's vertices move when it is refined, and a
-/// certificate on them keeps the time of the points it was computed for:
-/// see [`Scheduled::fp`]).
-fn far_failure(world: &Geo, c: &Cert, now: &Time, e: [Interval; 3]) -> Option<Interval> {
-    let real = |a: &Att| matches!(a.obj, Obj::Body(b) if world.shapes.approx(b).is_none());
-    if !c.p.iter().all(real) {
-        return None;
-    }
+/// [`cert_enclosure`]), as [`failure_time`] would defer it, and which
+/// body-frame points ([`Geo::body_point`]) it was computed for: the exact
+/// time is that deferred time on those points ([`far_deferred`]), made when
+/// it could be the next failure.
+fn far_failure(
+    world: &Geo,
+    c: &Cert,
+    now: &Time,
+    e: [Interval; 3],
+) -> Option<(Interval, [(u32, u32); 3])> {
     let after = now.interval();
     match filtered_failure(e, after) {
         Filtered::At(iv) if iv.lo > after.hi => {
             // (the enclosure `e` exists only for vertices of the bodies'
-            // views, whose exact positions the deferred time reads)
-            debug_assert!(c.p.iter().all(|&x| world.point_ref(x).is_some()));
+            // views, which have keys)
+            let key = |j: usize| world.body_point(c.p[j]);
+            let keys = [key(0)?, key(1)?, key(2)?];
             crate::structure::counters::bump(crate::structure::counters::Counter::FailureTimes);
-            Some(iv)
+            Some((iv, keys))
         }
         _ => None,
     }
+}
+
+/// The deferred failure time of certificate `c` in the far queue (at `ft`,
+/// as `e`): the root in that enclosure of its function on the points it
+/// was computed for, each moving by its body's frame of now, which is the
+/// frame it was computed with (a motion change schedules its bodies'
+/// certificates again).
+pub(super) fn far_deferred(world: &Geo, c: &Cert, ft: &FarTime, e: &FarEntry) -> Option<Time> {
+    let point = |j: usize| match c.p[j].obj {
+        Obj::Body(b) => world.point_ref_of(b, e.keys[j]),
+        Obj::Omega => None,
+    };
+    let src = DeferredFailure {
+        p: [point(0)?, point(1)?, point(2)?],
+        kind: c.kind,
+        sign: c.sign,
+    };
+    #[cfg(debug_assertions)]
+    assert_eq!(
+        src.p.each_ref().map(|x| x.id().0),
+        e.frames,
+        "a body of far certificate {:?} changed its motion",
+        c.p
+    );
+    Some(Time::deferred(ft.0, src))
 }
 
 /// The deferred failure time of certificate `c` in enclosure `iv`: the
@@ -820,14 +840,7 @@ impl Kinetic {
                 continue;
             };
             debug_assert_eq!(s.key, Some(QKey::Far(fk)), "a far event of another key");
-            #[cfg(debug_assertions)]
-            assert_eq!(
-                fingerprint(world, &s.cert.p),
-                entry.points,
-                "the points of far certificate {:?} changed",
-                s.cert.p
-            );
-            let t = deferred_failure(world, &s.cert, ft.0)
+            let t = far_deferred(world, &s.cert, &ft, &entry)
                 .expect("the points of a far certificate are vertices");
             let key = self
                 .queue

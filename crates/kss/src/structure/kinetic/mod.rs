@@ -289,18 +289,26 @@ impl crate::sim::Enclosed for FarTime {
     }
 }
 
-/// A certificate in the far queue: its id, and the tie class and the
+/// A certificate in the far queue: its id, the tie class and the
 /// sequence number it takes into the queue of exact times
-/// ([`EventQueue::reserve_seq`]: the place it had if queued there at once).
+/// ([`EventQueue::reserve_seq`]: the place it had if queued there at once),
+/// and which body-frame points its three points were when the enclosure
+/// was computed ([`Geo::point_id`]), which its exact time reads
+/// ([`book::far_deferred`]): an approximation's vertex can move (a pop or
+/// a merge) before the book schedules its certificates again, and a
+/// failure time keeps the points it was computed for, in either queue
+/// (see [`Scheduled::fp`]).
 #[derive(Clone, Copy, Debug)]
 struct FarEntry {
     id: CertId,
     tie: u64,
     seq: u64,
-    /// (debug builds: the points' fingerprint when it was scheduled, the
-    /// same when its exact time is made)
+    keys: [(u32, u32); 3],
+    /// (debug builds: the uids of the points' frames when it was
+    /// scheduled, the same when its exact time is made: a motion change
+    /// schedules the certificates of its bodies again)
     #[cfg(debug_assertions)]
-    points: Option<Fingerprint>,
+    frames: [u64; 3],
 }
 
 /// The failure time a certificate is due at: its queued time, or the one it
@@ -393,7 +401,7 @@ impl Kinetic {
                     Some(QKey::Far(k)) => self
                         .far
                         .get(k)
-                        .and_then(|(ft, _)| book::deferred_failure(world, &s.cert, ft.0)),
+                        .and_then(|(ft, e)| book::far_deferred(world, &s.cert, ft, e)),
                     None => None,
                 };
                 (s.cert, s.owners.to_vec(), t)
@@ -532,7 +540,7 @@ impl Kinetic {
             .filter_map(|(_, t, _, &id)| self.certs.at(id).map(|s| (t.clone(), &s.cert)));
         let far = self.far.iter().filter_map(|(_, ft, _, e)| {
             let s = self.certs.at(e.id)?;
-            Some((book::deferred_failure(world, &s.cert, ft.0)?, &s.cert))
+            Some((book::far_deferred(world, &s.cert, ft, e)?, &s.cert))
         });
         near.chain(far)
     }

@@ -376,7 +376,7 @@ impl Kinetic {
         (bodies, singles): (&[BodyId], bool),
         now: &Time,
     ) -> Result<bool, StructureError> {
-        let hi = self.search_start(world, now)?;
+        let hi = self.search_start(now)?;
         // all of them together first (the broken faces may lie between any
         // two), then each alone
         let mut sets: Vec<Vec<BodyId>> = vec![bodies.to_vec()];
@@ -476,7 +476,7 @@ impl Kinetic {
             return Ok(false);
         };
         let mut set = vec![b, first];
-        let hi = self.search_start(world, now)?;
+        let hi = self.search_start(now)?;
         for _round in 0..4 {
             let mut hi_b = hi.clone();
             let mut more: Vec<BodyId> = Vec::new();
@@ -703,7 +703,7 @@ impl Kinetic {
         now: &Time,
         kind: Rebuild,
     ) -> Result<(), StructureError> {
-        let mut hi = self.search_start(world, now)?;
+        let mut hi = self.search_start(now)?;
         trace!("rebuild_after {now}: search from {hi:?}");
         for _ in 0..200 {
             let at = now.rational_between(&hi);
@@ -751,11 +751,11 @@ impl Kinetic {
     /// moved into each other and every attempt fails (each a whole
     /// triangulation); at most one time unit later. (The f64 only bounds the
     /// search from above: any instant after `now` would do.)
-    pub(super) fn search_start(&self, world: &Geo, now: &Time) -> Result<Time, StructureError> {
+    pub(super) fn search_start(&self, now: &Time) -> Result<Time, StructureError> {
         let f = now.to_f64();
         let mut hi = Time::from_f64(f + f.abs().max(1.0))
             .ok_or_else(|| StructureError::Local("time out of range".into()))?;
-        if let Some(next) = self.queue_times_after(world, now) {
+        if let Some(next) = self.queue_times_after(now) {
             if next < hi {
                 hi = next;
             }
@@ -764,36 +764,35 @@ impl Kinetic {
     }
 
     /// The earliest queued failure time strictly after `now` (O(queue)),
-    /// the far queue's included (made exact where its enclosure does not
-    /// lie after the earliest other; a structure left behind by the
-    /// current time, as a stand-in's, may hold some before `now`).
-    pub(super) fn queue_times_after(&self, world: &Geo, now: &Time) -> Option<Time> {
+    /// where the far queue's failures count by the lower ends of their
+    /// enclosures, which are no later (a structure left behind by the
+    /// current time, as a stand-in's, may hold failures before `now`, and
+    /// bodies whose motions changed since they were scheduled).
+    pub(super) fn queue_times_after(&self, now: &Time) -> Option<Time> {
+        let after = |t: &Time| t > now;
         // the earliest queued time, unless failures of this very instant
         // are still queued
-        let mut best = match self.queue.peek() {
-            Some((_, t, _, _)) if t > now => Some(t.clone()),
+        let near = match self.queue.peek() {
+            Some((_, t, _, _)) if after(t) => Some(t.clone()),
             _ => self
                 .queue
                 .iter()
                 .map(|(_, t, _, _)| t)
-                .filter(|t| *t > now)
+                .filter(|t| after(t))
                 .min()
                 .cloned(),
         };
-        for (_, ft, _, entry) in self.far.iter() {
-            if best.as_ref().is_some_and(|b| ft.0.lo > b.interval().hi) {
-                continue;
-            }
-            let Some(s) = self.certs.at(entry.id) else {
-                continue;
-            };
-            if let Some(t) = super::book::deferred_failure(world, &s.cert, ft.0) {
-                if t > *now && best.as_ref().is_none_or(|b| t < *b) {
-                    best = Some(t);
-                }
-            }
-        }
-        best
+        let lo = |ft: &super::FarTime| Time::from_f64(ft.0.lo);
+        let far = match self.far.peek().and_then(|(_, ft, _, _)| lo(ft)) {
+            Some(t) if after(&t) => Some(t),
+            _ => self
+                .far
+                .iter()
+                .filter_map(|(_, ft, _, _)| lo(ft))
+                .filter(after)
+                .min(),
+        };
+        near.into_iter().chain(far).min()
     }
 
     /// Coarsen the approximations (in `shapes`) where the last operation
