@@ -33,6 +33,12 @@
 //! certificate does not show
 //! (`known_junction_at_another_vertex_of_its_certificate`, the `grazing`
 //! family with every polygon approximated);
+//! the search for an instant just after a refinement that a local repair
+//! starts from the far queue's failures, some of whose points the
+//! refinement moved: their enclosures bound the search, no exact time is
+//! made on the moved points
+//! (`repair_search_while_a_refinement_moved_far_certificate_points`, the
+//! `simultaneous` family with every polygon approximated);
 //! settled contacts repaired by a local retriangulation (a
 //! vertex on another polygon's edge at every instant tried, a region grown
 //! by two polygons whose corridor is degenerate at the same instant or past

@@ -1256,11 +1256,10 @@ impl<'a> Geo<'a> {
     }
 
     /// The body-frame point `key` of body `b` (the second part of a
-    /// [`Geo::point_id`], which stays valid however the approximation
-    /// changes) as a [`PointRef`], moving by the body's frame of now
-    /// (`None` for an approximation vertex of a body that is not
+    /// [`Geo::point_id`]) as a [`PointRef`], moving by the body's frame of
+    /// now (`None` for an approximation vertex of a body that is not
     /// approximated).
-    pub fn point_ref_of(&self, b: BodyId, (i, k): (u32, u32)) -> Option<PointRef> {
+    fn point_ref_of(&self, b: BodyId, (i, k): (u32, u32)) -> Option<PointRef> {
         let body = self.world.body(b);
         let src = if i == u32::MAX {
             PointSrc::Real(body.shape.clone(), k)
@@ -1382,11 +1381,39 @@ impl<'a> Geo<'a> {
         Some((self.world.body(b).frame.uid(), key))
     }
 
-    /// Which body-frame point of its body vertex `a` is now: the second
-    /// part of [`Geo::point_id`], without the frame ([`Geo::point_ref_of`]
-    /// reads it back).
-    pub fn body_point(&self, a: Att) -> Option<(u32, u32)> {
-        self.linear_key(a).map(|(_, key)| key)
+    /// The exposed id before vertex `a`'s in its body's approximation
+    /// (`u32::MAX` for a vertex of a polygon that is not approximated;
+    /// `None` for `ω` or an id that is not exposed): with `a`'s id, which
+    /// body-frame point `a` is now, whatever the approximation becomes
+    /// later ([`Geo::point_ref_after`] reads it back).
+    pub fn pred_id(&self, a: Att) -> Option<u32> {
+        let Obj::Body(b) = a.obj else {
+            return None;
+        };
+        let Some(ap) = self.shapes.approx(b) else {
+            return Some(u32::MAX);
+        };
+        let uid = self.world.body(b).frame.uid();
+        if let Some((i, _)) = ap.memo.get_current(uid, a.v, ap.exposed.version()) {
+            return Some(i);
+        }
+        let k = a.v as usize;
+        if !ap.exposed.contains(k) {
+            return None;
+        }
+        ap.exposed.pred(k).map(|i| i as u32)
+    }
+
+    /// The point of body `b` that vertex id `k` was while `i` was the
+    /// exposed id before it ([`Geo::pred_id`]), as a [`PointRef`] moving
+    /// by the body's frame of now.
+    pub fn point_ref_after(&self, b: BodyId, i: u32, k: u32) -> Option<PointRef> {
+        let key = if i == u32::MAX {
+            (u32::MAX, k)
+        } else {
+            self.shapes.approx(b)?.point_of(i as usize, k as usize)
+        };
+        self.point_ref_of(b, key)
     }
 
     /// The body of `a` and which body-frame point it is: `(u32::MAX, v)`

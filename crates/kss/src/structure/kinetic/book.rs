@@ -486,12 +486,12 @@ fn enqueue_with(
     now: &Time,
     e: Option<[Interval; 3]>,
 ) -> (Option<QKey>, Option<Box<(Fingerprint, bool)>>) {
-    if let Some((iv, keys)) = e.and_then(|e| far_failure(world, c, now, e)) {
+    if let Some((iv, preds)) = e.and_then(|e| far_failure(world, c, now, e)) {
         let entry = FarEntry {
             id,
+            preds,
             tie: tie(world, &c.p),
             seq: queue.reserve_seq(),
-            keys,
             #[cfg(debug_assertions)]
             frames: fingerprint(world, &c.p)
                 .expect("the points of a far certificate are vertices")
@@ -528,25 +528,25 @@ fn enqueue_with(
 
 /// The enclosure of certificate `c`'s failure time after `now` where the
 /// f64 filter isolates it strictly after `now` (`e`: its
-/// [`cert_enclosure`]), as [`failure_time`] would defer it, and which
-/// body-frame points ([`Geo::body_point`]) it was computed for: the exact
-/// time is that deferred time on those points ([`far_deferred`]), made when
-/// it could be the next failure.
+/// [`cert_enclosure`]), as [`failure_time`] would defer it, and the ids
+/// before its points' ids ([`Geo::pred_id`]), which tell the points it
+/// was computed for: the exact time is that deferred time on those points
+/// ([`far_deferred`]), made when it could be the next failure.
 fn far_failure(
     world: &Geo,
     c: &Cert,
     now: &Time,
     e: [Interval; 3],
-) -> Option<(Interval, [(u32, u32); 3])> {
+) -> Option<(Interval, [u32; 3])> {
     let after = now.interval();
     match filtered_failure(e, after) {
         Filtered::At(iv) if iv.lo > after.hi => {
             // (the enclosure `e` exists only for vertices of the bodies'
-            // views, which have keys)
-            let key = |j: usize| world.body_point(c.p[j]);
-            let keys = [key(0)?, key(1)?, key(2)?];
+            // views, which have them)
+            let pred = |j: usize| world.pred_id(c.p[j]);
+            let preds = [pred(0)?, pred(1)?, pred(2)?];
             crate::structure::counters::bump(crate::structure::counters::Counter::FailureTimes);
-            Some((iv, keys))
+            Some((iv, preds))
         }
         _ => None,
     }
@@ -558,9 +558,12 @@ fn far_failure(
 /// frame it was computed with (a motion change schedules its bodies'
 /// certificates again).
 pub(super) fn far_deferred(world: &Geo, c: &Cert, ft: &FarTime, e: &FarEntry) -> Option<Time> {
-    let point = |j: usize| match c.p[j].obj {
-        Obj::Body(b) => world.point_ref_of(b, e.keys[j]),
-        Obj::Omega => None,
+    let point = |j: usize| match c.p[j] {
+        Att {
+            obj: Obj::Body(b),
+            v,
+        } => world.point_ref_after(b, e.preds[j], v),
+        _ => None,
     };
     let src = DeferredFailure {
         p: [point(0)?, point(1)?, point(2)?],

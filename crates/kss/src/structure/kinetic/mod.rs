@@ -292,18 +292,18 @@ impl crate::sim::Enclosed for FarTime {
 /// A certificate in the far queue: its id, the tie class and the
 /// sequence number it takes into the queue of exact times
 /// ([`EventQueue::reserve_seq`]: the place it had if queued there at once),
-/// and which body-frame points its three points were when the enclosure
-/// was computed ([`Geo::point_id`]), which its exact time reads
-/// ([`book::far_deferred`]): an approximation's vertex can move (a pop or
-/// a merge) before the book schedules its certificates again, and a
-/// failure time keeps the points it was computed for, in either queue
-/// (see [`Scheduled::fp`]).
+/// and which points its three points were when the enclosure was computed
+/// (each by the id before it in its body's approximation,
+/// [`Geo::pred_id`]), which its exact time reads ([`book::far_deferred`]):
+/// an approximation's vertex can move (a pop or a merge) before the book
+/// schedules its certificates again, and a failure time keeps the points
+/// it was computed for, in either queue (see [`Scheduled::fp`]).
 #[derive(Clone, Copy, Debug)]
 struct FarEntry {
     id: CertId,
+    preds: [u32; 3],
     tie: u64,
     seq: u64,
-    keys: [(u32, u32); 3],
     /// (debug builds: the uids of the points' frames when it was
     /// scheduled, the same when its exact time is made: a motion change
     /// schedules the certificates of its bodies again)
