@@ -765,9 +765,10 @@ impl Kinetic {
 
     /// The earliest queued failure time strictly after `now` (O(queue)),
     /// where the far queue's failures count by the lower ends of their
-    /// enclosures, which are no later (a structure left behind by the
-    /// current time, as a stand-in's, may hold failures before `now`, and
-    /// bodies whose motions changed since they were scheduled).
+    /// enclosures, which are no later: no exact time is made here, where a
+    /// refinement may have moved some of their points since they were
+    /// scheduled, and a structure left behind by the current time (a
+    /// stand-in's) may hold failures before `now`.
     pub(super) fn queue_times_after(&self, now: &Time) -> Option<Time> {
         let after = |t: &Time| t > now;
         // the earliest queued time, unless failures of this very instant
