@@ -1984,6 +1984,10 @@ fn first_edges_i128(v: &[[i128; 2]]) -> [usize; 2] {
 /// The sign of `ax·by − ay·bx` for components below `2^126` in magnitude:
 /// the two products compared exactly as 256-bit sign and magnitude.
 pub(crate) fn cross_sign_wide(ax: i128, ay: i128, bx: i128, by: i128) -> Sign {
+    // (components below 2^63: each product below 2^126, compared in i128)
+    if (ax.unsigned_abs() | ay.unsigned_abs() | bx.unsigned_abs() | by.unsigned_abs()) < 1 << 63 {
+        return Sign::from_ordering((ax * by).cmp(&(ay * bx)));
+    }
     // |a|·|b| as (high, low) 128-bit halves, from 64-bit limbs
     let wide = |a: u128, b: u128| -> (u128, u128) {
         const M: u128 = (1 << 64) - 1;

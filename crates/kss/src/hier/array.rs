@@ -146,7 +146,31 @@ fn cross(a: (&Int, &Int), b: (&Int, &Int)) -> Int {
 /// Whether the counter-clockwise turn from normal `a` to normal `b` is in
 /// `(0, π/2)`: `a × b > 0` and `a · b > 0`, exactly.
 fn acute(a: (&Int, &Int), b: (&Int, &Int)) -> bool {
-    cross(a, b) > Int::ZERO && dot(a, b) > Int::ZERO
+    let exact = || cross(a, b) > Int::ZERO && dot(a, b) > Int::ZERO;
+    if let (Some(p), Some(q)) = (narrow(a), narrow(b)) {
+        let acute = p.0 * q.1 > p.1 * q.0 && p.0 * q.0 + p.1 * q.1 > 0;
+        debug_assert_eq!(acute, exact(), "the i128 turn from {a:?} to {b:?}");
+        return acute;
+    }
+    exact()
+}
+
+/// `a × b > 0`, exactly ([`cross`]'s sign).
+fn cross_positive(a: (&Int, &Int), b: (&Int, &Int)) -> bool {
+    if let (Some(p), Some(q)) = (narrow(a), narrow(b)) {
+        let positive = p.0 * q.1 > p.1 * q.0;
+        debug_assert_eq!(positive, cross(a, b) > Int::ZERO, "the i128 cross product");
+        return positive;
+    }
+    cross(a, b) > Int::ZERO
+}
+
+/// The vector as `i128`s where both components are below `2^63` in
+/// magnitude: every product of two such is below `2^126`, and a sum or
+/// difference of two products fits an `i128`.
+fn narrow(p: (&Int, &Int)) -> Option<(i128, i128)> {
+    let (x, y) = (i128::try_from(p.0).ok()?, i128::try_from(p.1).ok()?);
+    ((x.unsigned_abs() | y.unsigned_abs()) < 1 << 63).then_some((x, y))
 }
 
 fn bit_len(v: &Int) -> usize {
@@ -287,8 +311,7 @@ fn valid_fan(a: &(Int, Int), mids: &[(Int, Int)], b: &(Int, Int)) -> bool {
     let mut prev = as_pair(a);
     for m in mids {
         let m = as_pair(m);
-        if !(acute(prev, m) && cross(as_pair(a), m) > Int::ZERO && cross(m, as_pair(b)) > Int::ZERO)
-        {
+        if !(acute(prev, m) && cross_positive(as_pair(a), m) && cross_positive(m, as_pair(b))) {
             return false;
         }
         prev = m;
@@ -319,6 +342,51 @@ fn exact_fallback_normals(a: &(Int, Int), b: &(Int, Int), count: usize) -> Vec<(
     }
 }
 
+/// The entry of the line with outward normal `(nx, ny)` through base
+/// vertex `start` of `body` (base segment `start` to `end`), with the
+/// enclosures of its normal and offset. Where the normal and the vertex's
+/// coordinates are `i128` and the offset `c = nx·x + ny·y` is too (checked:
+/// an overflow takes the other way), `c` and the enclosures come from
+/// `i128` (`Interval::of_int` of an integer that fits is
+/// `Interval::of_i128`): no product of big integers, no conversion of one.
+fn line_entry(
+    body: &BodyPolygon,
+    (nx, ny): (Int, Int),
+    start: usize,
+    end: usize,
+) -> (Entry, [Interval; 3]) {
+    let small = body.small_vertices().and_then(|v| {
+        let [x, y] = v[start];
+        let (a, b) = (i128::try_from(&nx).ok()?, i128::try_from(&ny).ok()?);
+        let c = a.checked_mul(x)?.checked_add(b.checked_mul(y)?)?;
+        Some([a, b, c])
+    });
+    let (c, iv) = match small {
+        Some(abc) => (Int::from(abc[2]), abc.map(Interval::of_i128)),
+        None => {
+            let (x, y) = body.int_vertex(start);
+            let c = &nx * x + &ny * y;
+            let iv = [&nx, &ny, &c].map(Interval::of_int);
+            (c, iv)
+        }
+    };
+    debug_assert!(
+        {
+            let (x, y) = body.int_vertex(start);
+            c == &nx * x + &ny * y && iv == [&nx, &ny, &c].map(Interval::of_int)
+        },
+        "the offset of a line through vertex {start}"
+    );
+    let e = Entry {
+        nx,
+        ny,
+        c,
+        start,
+        end,
+    };
+    (e, iv)
+}
+
 impl EdgeArray {
     /// Build the array of `body` in `O(n)` (expected; plus `O(M)` entries).
     pub fn new(body: &BodyPolygon) -> EdgeArray {
@@ -343,14 +411,13 @@ impl EdgeArray {
                 }
             })
             .collect();
-        // (a double holds an integer below 2^53 exactly: the same value as
-        // the big integer's conversion)
-        const EXACT: i128 = 1 << 53;
         let units: Vec<[f64; 2]> = normals
             .iter()
             .enumerate()
             .map(|(i, p)| match small_normal(i) {
-                Some((x, y)) if x.abs() < EXACT && y.abs() < EXACT => {
+                // (`as` rounds an `i128` to the nearest double, as the big
+                // integer's conversion does)
+                Some((x, y)) => {
                     let (fx, fy) = (x as f64, y as f64);
                     let r = fx.hypot(fy);
                     let u = [fx / r, fy / r];
@@ -391,23 +458,16 @@ impl EdgeArray {
         let scale = (1u64 << ((usize::BITS - n_eff.leading_zeros()) + 8).min(60)) as f64;
 
         let mut entries = Vec::with_capacity(m);
+        let mut ivs = Vec::with_capacity(m);
         let mut edge_entry = Vec::with_capacity(n);
         for i in 0..n {
             let v = (i + 1) % n;
-            let (x, y) = body.int_vertex(i);
-            let (nx, ny) = normals[i].clone();
-            let c = &nx * x + &ny * y;
             edge_entry.push(entries.len());
-            entries.push(Entry {
-                nx,
-                ny,
-                c,
-                start: i,
-                end: v,
-            });
+            let (e, iv) = line_entry(body, normals[i].clone(), i, v);
+            entries.push(e);
+            ivs.push(iv);
             if r[v] > 1 {
-                let (x, y) = body.int_vertex(v);
-                for (nx, ny) in copy_normals(
+                for normal in copy_normals(
                     &normals[i],
                     &normals[v],
                     units[i],
@@ -415,24 +475,14 @@ impl EdgeArray {
                     r[v] - 1,
                     scale,
                 ) {
-                    let c = &nx * x + &ny * y;
-                    entries.push(Entry {
-                        nx,
-                        ny,
-                        c,
-                        start: v,
-                        end: v,
-                    });
+                    let (e, iv) = line_entry(body, normal, v, v);
+                    entries.push(e);
+                    ivs.push(iv);
                 }
             }
         }
         debug_assert_eq!(entries.len(), m);
-        let ivs = Enclosures(
-            entries
-                .iter()
-                .map(|e| [&e.nx, &e.ny, &e.c].map(Interval::of_int))
-                .collect(),
-        );
+        let ivs = Enclosures(ivs);
         let mut array = EdgeArray {
             h,
             n,
@@ -840,6 +890,87 @@ mod tests {
                 return (a, b);
             }
         }
+    }
+
+    /// The `i128` forms of the turn tests agree with the big integers' on
+    /// vectors on both sides of their `2^63` limit (where the big integers
+    /// decide), opposite and equal ones included.
+    #[test]
+    fn hier_narrow_turns_agree_with_the_big_integers() {
+        let mut rng = Rng::new(11);
+        let mut narrow_seen = 0;
+        for round in 0..4000 {
+            // (right shifts of 59 and 32 bits, none, left shifts of one and
+            // two: magnitudes up to 2^3, 2^30, 2^62, 2^63, 2^64)
+            let shift = [59i32, 32, 0, -1, -2][round % 5];
+            let mut r = || {
+                let x = Int::from(rng.range_i64(-(1 << 62), 1 << 62));
+                if shift >= 0 {
+                    x >> shift as usize
+                } else {
+                    x << (-shift) as usize
+                }
+            };
+            let a = (r(), r());
+            let b = match round % 7 {
+                0 => (-a.0.clone(), -a.1.clone()),
+                1 => a.clone(),
+                _ => (r(), r()),
+            };
+            let (a, b) = (as_pair(&a), as_pair(&b));
+            narrow_seen += usize::from(narrow(a).is_some() && narrow(b).is_some());
+            assert_eq!(
+                acute(a, b),
+                cross(a, b) > Int::ZERO && dot(a, b) > Int::ZERO,
+                "{a:?} {b:?}"
+            );
+            assert_eq!(cross_positive(a, b), cross(a, b) > Int::ZERO, "{a:?} {b:?}");
+        }
+        assert!(narrow_seen > 1000 && narrow_seen < 3900, "{narrow_seen}");
+    }
+
+    /// Every entry's offset is `nx·x + ny·y` at its base vertex and its
+    /// enclosures are those of its integers, on polygons whose grid
+    /// integers are small, whose offsets overflow an `i128` (so the big
+    /// integers make them), and whose coordinates have over 100 bits (no
+    /// `i128` form at all).
+    #[test]
+    fn hier_entry_lines_pass_through_their_base_vertices() {
+        let ring = |n: usize, r: f64, c: [f64; 2]| -> Vec<[f64; 2]> {
+            crate::gen::regular_polygon(n, r, 0.3)
+                .into_iter()
+                .map(|[x, y]| [x + c[0], y + c[1]])
+                .collect()
+        };
+        let mut tiny = ring(12, 1.0, [0.0, 0.0]);
+        tiny[0][1] += 1e-40;
+        let polygons = [
+            ring(8, 4.0, [0.0, 0.0]),
+            ring(64, 1.0, [0.0, 0.0]),
+            ring(64, 1.0, [1e6, -3e5]),
+            ring(8, 1.0, [3e12, 1.0]),
+            tiny,
+        ];
+        let mut kinds = (0, 0);
+        for verts in &polygons {
+            let body = BodyPolygon::new(verts).unwrap();
+            let arr = EdgeArray::new(&body);
+            for (k, e) in arr.entries().iter().enumerate() {
+                let (x, y) = body.int_vertex(e.start);
+                assert_eq!(e.c, &e.nx * x + &e.ny * y, "entry {k}");
+                assert_eq!(
+                    arr.ivs.0[k],
+                    [&e.nx, &e.ny, &e.c].map(Interval::of_int),
+                    "entry {k}"
+                );
+                if i128::try_from(&e.c).is_ok() {
+                    kinds.0 += 1;
+                } else {
+                    kinds.1 += 1;
+                }
+            }
+        }
+        assert!(kinds.0 > 0 && kinds.1 > 0, "{kinds:?}");
     }
 
     #[test]

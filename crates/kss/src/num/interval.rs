@@ -106,6 +106,11 @@ impl Interval {
 
     /// An enclosure of the integer `x` (the point where `x` is a double).
     pub fn of_i128(x: i128) -> Interval {
+        // (below 2^53 in magnitude a double holds it: one hardware
+        // conversion, not the software one of an `i128`)
+        if x.unsigned_abs() < 1 << 53 {
+            return Interval::point(x as i64 as f64);
+        }
         let v = x as f64;
         // (`v` is an integer in [−2^127, 2^127]; `v as i128` is exact below
         // 2^127 and saturates at it, so that value is left out)
@@ -396,6 +401,10 @@ mod tests {
             0i128,
             1,
             -1,
+            (1 << 53) - 1,
+            -(1 << 53) + 1,
+            1 << 53,
+            -(1 << 53),
             (1 << 53) + 1,
             -(1 << 53) - 1,
             1 << 100,
