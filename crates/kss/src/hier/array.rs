@@ -415,13 +415,17 @@ impl EdgeArray {
             .iter()
             .enumerate()
             .map(|(i, p)| match small_normal(i) {
-                // (`as` rounds an `i128` to the nearest double, as the big
-                // integer's conversion does)
+                // (`as` rounds an `i128` to the nearest double; below 2^53
+                // both conversions are exact)
                 Some((x, y)) => {
                     let (fx, fy) = (x as f64, y as f64);
                     let r = fx.hypot(fy);
                     let u = [fx / r, fy / r];
-                    debug_assert_eq!(u, approx_unit(&p.0, &p.1), "the unit of normal {i}");
+                    debug_assert!(
+                        (x.unsigned_abs() | y.unsigned_abs()) >= 1 << 53
+                            || u == approx_unit(&p.0, &p.1),
+                        "the unit of normal {i}"
+                    );
                     u
                 }
                 _ => approx_unit(&p.0, &p.1),
