@@ -946,8 +946,9 @@ mod tests {
                 .map(|[x, y]| [x + c[0], y + c[1]])
                 .collect()
         };
-        let mut tiny = ring(12, 1.0, [0.0, 0.0]);
-        tiny[0][1] += 1e-40;
+        // (a coordinate of 1e-30 beside ones of 1: over 150 bits on the
+        // common unit)
+        let tiny = vec![[1e-30, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
         let polygons = [
             ring(8, 4.0, [0.0, 0.0]),
             ring(64, 1.0, [0.0, 0.0]),
@@ -955,7 +956,9 @@ mod tests {
             ring(8, 1.0, [3e12, 1.0]),
             tiny,
         ];
-        let mut kinds = (0, 0);
+        // (offsets that fit an `i128`, that overflow it on `i128`
+        // coordinates, and lines of a polygon without `i128` coordinates)
+        let mut kinds = [0; 3];
         for verts in &polygons {
             let body = BodyPolygon::new(verts).unwrap();
             let arr = EdgeArray::new(&body);
@@ -967,14 +970,14 @@ mod tests {
                     [&e.nx, &e.ny, &e.c].map(Interval::of_int),
                     "entry {k}"
                 );
-                if i128::try_from(&e.c).is_ok() {
-                    kinds.0 += 1;
-                } else {
-                    kinds.1 += 1;
-                }
+                kinds[match (body.small_vertices(), i128::try_from(&e.c)) {
+                    (None, _) => 2,
+                    (Some(_), Ok(_)) => 0,
+                    (Some(_), Err(_)) => 1,
+                }] += 1;
             }
         }
-        assert!(kinds.0 > 0 && kinds.1 > 0, "{kinds:?}");
+        assert!(kinds.iter().all(|&x| x > 0), "{kinds:?}");
     }
 
     #[test]
