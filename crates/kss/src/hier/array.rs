@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 use super::exposed::Exposed;
 use super::levels;
-use crate::geom::{BodyPolygon, Point};
+use crate::geom::{cross_sign_wide, BodyPolygon, Point};
 use crate::motion::{Frame, LinearPoint};
 use crate::num::{Int, Interval, Rational, Sign};
 
@@ -148,7 +148,9 @@ fn cross(a: (&Int, &Int), b: (&Int, &Int)) -> Int {
 fn acute(a: (&Int, &Int), b: (&Int, &Int)) -> bool {
     let exact = || cross(a, b) > Int::ZERO && dot(a, b) > Int::ZERO;
     if let (Some(p), Some(q)) = (narrow(a), narrow(b)) {
-        let acute = p.0 * q.1 > p.1 * q.0 && p.0 * q.0 + p.1 * q.1 > 0;
+        // (a · b = p0·q0 − (−p1)·q1)
+        let acute = cross_sign_wide(p.0, p.1, q.0, q.1) == Sign::Positive
+            && cross_sign_wide(p.0, -p.1, q.1, q.0) == Sign::Positive;
         debug_assert_eq!(acute, exact(), "the i128 turn from {a:?} to {b:?}");
         return acute;
     }
@@ -158,19 +160,18 @@ fn acute(a: (&Int, &Int), b: (&Int, &Int)) -> bool {
 /// `a × b > 0`, exactly ([`cross`]'s sign).
 fn cross_positive(a: (&Int, &Int), b: (&Int, &Int)) -> bool {
     if let (Some(p), Some(q)) = (narrow(a), narrow(b)) {
-        let positive = p.0 * q.1 > p.1 * q.0;
+        let positive = cross_sign_wide(p.0, p.1, q.0, q.1) == Sign::Positive;
         debug_assert_eq!(positive, cross(a, b) > Int::ZERO, "the i128 cross product");
         return positive;
     }
     cross(a, b) > Int::ZERO
 }
 
-/// The vector as `i128`s where both components are below `2^63` in
-/// magnitude: every product of two such is below `2^126`, and a sum or
-/// difference of two products fits an `i128`.
+/// The vector as `i128`s where both components are below `2^126` in
+/// magnitude, as [`cross_sign_wide`] takes them.
 fn narrow(p: (&Int, &Int)) -> Option<(i128, i128)> {
     let (x, y) = (i128::try_from(p.0).ok()?, i128::try_from(p.1).ok()?);
-    ((x.unsigned_abs() | y.unsigned_abs()) < 1 << 63).then_some((x, y))
+    ((x.unsigned_abs() | y.unsigned_abs()) < 1 << 126).then_some((x, y))
 }
 
 fn bit_len(v: &Int) -> usize {
@@ -445,7 +446,7 @@ impl EdgeArray {
             .map(|v| match small_normal(prev(v)).zip(small_normal(v)) {
                 // a · b = a0·b0 − a1·(−b1)
                 Some(((a0, a1), (b0, b1))) => {
-                    let acute = crate::geom::cross_sign_wide(a0, a1, -b1, b0) == Sign::Positive;
+                    let acute = cross_sign_wide(a0, a1, -b1, b0) == Sign::Positive;
                     debug_assert_eq!(
                         acute,
                         dot(as_pair(&normals[prev(v)]), as_pair(&normals[v])) > Int::ZERO,
@@ -897,16 +898,16 @@ mod tests {
     }
 
     /// The `i128` forms of the turn tests agree with the big integers' on
-    /// vectors on both sides of their `2^63` limit (where the big integers
+    /// vectors on both sides of their `2^126` limit (where the big integers
     /// decide), opposite and equal ones included.
     #[test]
     fn hier_narrow_turns_agree_with_the_big_integers() {
         let mut rng = Rng::new(11);
         let mut narrow_seen = 0;
         for round in 0..4000 {
-            // (right shifts of 59 and 32 bits, none, left shifts of one and
-            // two: magnitudes up to 2^3, 2^30, 2^62, 2^63, 2^64)
-            let shift = [59i32, 32, 0, -1, -2][round % 5];
+            // (right shifts of 59 and 32 bits, none, left shifts of 64 and
+            // 65: magnitudes up to 2^3, 2^30, 2^62, 2^126, 2^127)
+            let shift = [59i32, 32, 0, -64, -65][round % 5];
             let mut r = || {
                 let x = Int::from(rng.range_i64(-(1 << 62), 1 << 62));
                 if shift >= 0 {
