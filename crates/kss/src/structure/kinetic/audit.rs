@@ -10,7 +10,7 @@ use crate::structure::StructureError;
 
 use super::book::{bridge_end, cert_poly, resting_flat};
 use super::step::each_body;
-use super::{Kinetic, QKey};
+use super::{CertId, Kinetic, QKey};
 use crate::structure::ops::Owner;
 use crate::structure::{CorrId, TriId};
 
@@ -169,7 +169,25 @@ impl Kinetic {
                 }
             }
         }
-        let in_sets: usize = self.by_body.0.iter().map(|set| set.iter().count()).sum();
+        let mut in_sets = 0;
+        for set in &self.by_body.0 {
+            let live: Vec<CertId> = set
+                .iter()
+                .copied()
+                .filter(|&x| self.certs.is_live(x))
+                .collect();
+            if live.len() != set.len() {
+                return bad(format!(
+                    "a body's set counts {} certificates and lists {}",
+                    set.len(),
+                    live.len()
+                ));
+            }
+            in_sets += live.len();
+        }
+        if !self.certs.index_agrees() {
+            return bad("the index by points does not find a certificate".into());
+        }
         if in_sets != on_bodies {
             return bad(format!(
                 "{in_sets} entries in the bodies' sets for {on_bodies} certificates on bodies"

@@ -813,9 +813,10 @@ impl Kinetic {
             if s.idle {
                 self.idle -= 1;
             }
+            let certs = &self.certs;
             for b in each_body(&s.cert.p) {
                 if let Some(set) = self.by_body.get_mut(&b) {
-                    set.remove(id);
+                    set.dropped(|x| certs.is_live(x));
                 }
             }
             if let Some(k) = s.key {

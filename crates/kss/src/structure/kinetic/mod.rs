@@ -58,18 +58,16 @@ type Owned = smallvec::SmallVec<[CertId; 1]>;
 /// A hash map with a fixed hasher (the same order in every run).
 type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
 
-/// A hash set with a fixed hasher (the same order in every run).
-type FastSet<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
-
-/// The certificates on one body ([`Kinetic::by_body`]): a list while
-/// there are at most [`FEW_CERTS`] (most bodies have a few dozen, which a
-/// list keeps in less memory than a hashed set or a `BTreeSet` and
-/// searches about as fast), a hashed set once there are more (the walls
-/// of a box). Unordered either way.
-#[derive(Clone, Debug)]
-enum CertSet {
-    Few(Vec<CertId>),
-    Many(FastSet<CertId>),
+/// The certificates on one body ([`Kinetic::by_body`]): a list of ids in
+/// the order they were added, which may still hold ids of certificates
+/// dropped since (a drop does not search the list: it counts the body's
+/// certificates down, and the list is purged of dropped ids once they are
+/// a third of it). Readers skip the ids that the store no longer finds.
+#[derive(Clone, Debug, Default)]
+struct CertSet {
+    ids: Vec<CertId>,
+    /// How many of `ids` are live.
+    live: usize,
 }
 
 /// The certificates on each body, indexed by body id ([`Kinetic::by_body`]):
@@ -103,98 +101,52 @@ impl ByBody {
     }
 }
 
-/// The size above which a [`CertSet`] is hashed.
-const FEW_CERTS: usize = 256;
-
-impl Default for CertSet {
-    fn default() -> CertSet {
-        CertSet::Few(Vec::new())
-    }
-}
-
 impl CertSet {
-    /// Add certificate `id`, which is not in the set.
+    /// Add certificate `id`, which is live and not in the set.
     fn insert(&mut self, id: CertId) {
-        match self {
-            CertSet::Few(v) => {
-                debug_assert!(!v.contains(&id));
-                if v.len() < FEW_CERTS {
-                    // (grown by a few at a time: doubling would leave up
-                    // to half of a list of this size unused)
-                    if v.len() == v.capacity() {
-                        v.reserve_exact(8);
-                    }
-                    v.push(id);
-                } else {
-                    let mut set: FastSet<CertId> = v.drain(..).collect();
-                    set.insert(id);
-                    *self = CertSet::Many(set);
-                }
-            }
-            CertSet::Many(set) => {
-                set.insert(id);
-            }
+        debug_assert!(!self.ids.contains(&id));
+        // (grown by a few at a time while short: doubling would leave up
+        // to half of a list of a few dozen unused)
+        if self.ids.len() == self.ids.capacity() && self.ids.len() < 256 {
+            self.ids.reserve_exact(8);
         }
+        self.ids.push(id);
+        self.live += 1;
     }
 
-    fn remove(&mut self, id: CertId) {
-        match self {
-            CertSet::Few(v) => {
-                if let Some(i) = v.iter().position(|&q| q == id) {
-                    v.swap_remove(i);
-                }
-            }
-            CertSet::Many(set) => {
-                set.remove(&id);
-            }
+    /// Note that one of the set's certificates was dropped (`live` tells
+    /// the ids still stored); the list is purged once a third of it is
+    /// dropped ids, in a pass that keeps the order.
+    fn dropped(&mut self, live: impl Fn(CertId) -> bool) {
+        debug_assert!(self.live > 0, "a drop from a set without certificates");
+        self.live -= 1;
+        if self.ids.len() >= self.live + self.live / 2 + 8 {
+            self.ids.retain(|&id| live(id));
+            debug_assert_eq!(self.ids.len(), self.live, "a set's count of live ids");
         }
     }
 
     /// The number of certificates in the set.
     fn len(&self) -> usize {
-        match self {
-            CertSet::Few(v) => v.len(),
-            CertSet::Many(set) => set.len(),
-        }
+        self.live
     }
 
     fn is_empty(&self) -> bool {
-        match self {
-            CertSet::Few(v) => v.is_empty(),
-            CertSet::Many(set) => set.is_empty(),
-        }
+        self.live == 0
     }
 
-    fn iter(&self) -> CertSetIter<'_> {
-        match self {
-            CertSet::Few(v) => CertSetIter::Few(v.iter()),
-            CertSet::Many(set) => CertSetIter::Many(set.iter()),
-        }
-    }
-}
-
-/// The iterator of a [`CertSet`].
-enum CertSetIter<'a> {
-    Few(std::slice::Iter<'a, CertId>),
-    Many(std::collections::hash_set::Iter<'a, CertId>),
-}
-
-impl<'a> Iterator for CertSetIter<'a> {
-    type Item = &'a CertId;
-
-    fn next(&mut self) -> Option<&'a CertId> {
-        match self {
-            CertSetIter::Few(i) => i.next(),
-            CertSetIter::Many(i) => i.next(),
-        }
+    /// The ids in the list: every certificate of the set, and ids of
+    /// certificates dropped since (which the store does not find).
+    fn iter(&self) -> std::slice::Iter<'_, CertId> {
+        self.ids.iter()
     }
 }
 
 impl<'a> IntoIterator for &'a CertSet {
     type Item = &'a CertId;
-    type IntoIter = CertSetIter<'a>;
+    type IntoIter = std::slice::Iter<'a, CertId>;
 
-    fn into_iter(self) -> CertSetIter<'a> {
+    fn into_iter(self) -> std::slice::Iter<'a, CertId> {
         self.iter()
     }
 }

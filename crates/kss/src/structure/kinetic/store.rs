@@ -3,6 +3,16 @@
 //! and the bodies' sets hold ids, so the event loop reaches a record with
 //! one indexed load) or by its three points (a hashed index, asked when an
 //! owner's refresh looks for a certificate it may share with another).
+//!
+//! Dropping a certificate leaves its entry in the index: the entry of a
+//! dropped certificate is *stale* (its id is no longer live, which a
+//! dense map of the live ids answers in a few bytes per slot), a lookup
+//! reads a stale entry as none, and storing a certificate on the same
+//! points again overwrites it. The stale entries are purged in one pass
+//! when the index would otherwise grow, so it never holds more entries
+//! than the table a strict index would have. A drop is then one access to
+//! the record and none to the index, whose buckets are scattered: the
+//! certificates that a removal drops are cold in the cache.
 
 use super::{FastMap, Scheduled};
 use crate::structure::Att;
@@ -16,11 +26,17 @@ slotmap::new_key_type! {
 }
 
 /// The certificates of the structure: a slab of records (a
-/// [`slotmap::SlotMap`]) and an index from the three points to the id.
+/// [`slotmap::SlotMap`]), an index from the three points to the id (with
+/// stale entries, module docs) and the set of live ids.
 #[derive(Debug, Default)]
 pub(super) struct CertStore {
     slots: slotmap::SlotMap<CertId, Scheduled>,
+    /// From the points to the id: every live certificate's entry, and
+    /// stale entries of dropped ones.
     index: FastMap<[Att; 3], CertId>,
+    /// The live ids (a version per slot: four bytes, where a record of
+    /// `slots` is over a hundred), read where an id may be stale.
+    live: slotmap::SecondaryMap<CertId, ()>,
 }
 
 impl CertStore {
@@ -31,7 +47,12 @@ impl CertStore {
 
     /// The id of the certificate on `p`, if there is one.
     pub(super) fn id(&self, p: &[Att; 3]) -> Option<CertId> {
-        self.index.get(p).copied()
+        self.index.get(p).copied().filter(|&id| self.is_live(id))
+    }
+
+    /// Whether `id` names a stored certificate (one dense load).
+    pub(super) fn is_live(&self, id: CertId) -> bool {
+        self.live.contains_key(id)
     }
 
     /// The certificate on `p`.
@@ -58,9 +79,14 @@ impl CertStore {
     /// Store `s`, which must be on points that have no certificate yet.
     pub(super) fn insert(&mut self, s: Scheduled) -> CertId {
         let p = s.cert.p;
+        self.make_room();
         let id = self.slots.insert(s);
+        self.live.insert(id, ());
         let old = self.index.insert(p, id);
-        debug_assert!(old.is_none(), "two certificates on {p:?}");
+        debug_assert!(
+            old.is_none_or(|old| !self.is_live(old)),
+            "two certificates on {p:?}"
+        );
         id
     }
 
@@ -68,21 +94,56 @@ impl CertStore {
     /// id; else `Err` with the id of the certificate on them (`s` is not
     /// stored). One search of the index for both.
     pub(super) fn insert_new(&mut self, s: Scheduled) -> Result<CertId, CertId> {
+        use std::collections::hash_map::Entry;
+        self.make_room();
         match self.index.entry(s.cert.p) {
-            std::collections::hash_map::Entry::Occupied(e) => Err(*e.get()),
-            std::collections::hash_map::Entry::Vacant(e) => {
+            Entry::Occupied(e) if self.live.contains_key(*e.get()) => Err(*e.get()),
+            Entry::Occupied(mut e) => {
                 let id = self.slots.insert(s);
+                self.live.insert(id, ());
+                e.insert(id);
+                Ok(id)
+            }
+            Entry::Vacant(e) => {
+                let id = self.slots.insert(s);
+                self.live.insert(id, ());
                 e.insert(id);
                 Ok(id)
             }
         }
     }
 
-    /// Take the certificate with id `id` out of the store.
+    /// Take the certificate with id `id` out of the store (its index entry
+    /// stays, stale: module docs).
     pub(super) fn remove(&mut self, id: CertId) -> Option<Scheduled> {
         let s = self.slots.remove(id)?;
-        self.index.remove(&s.cert.p);
+        self.live.remove(id);
         Some(s)
+    }
+
+    /// Purge the index's stale entries if it is full (the next new key
+    /// would grow it) and at least an eighth of its entries are stale: a
+    /// pass over the table for every eighth of it dropped, and the table
+    /// grows only where a strict index's would be nearly full too.
+    fn make_room(&mut self) {
+        let len = self.index.len();
+        if len < self.index.capacity() {
+            return;
+        }
+        let stale = len - self.slots.len();
+        if stale * 8 >= len {
+            let live = &self.live;
+            self.index.retain(|_, id| live.contains_key(*id));
+        }
+    }
+
+    /// Whether the index finds every stored certificate by its points (its
+    /// other entries are stale): the audit's check.
+    pub(super) fn index_agrees(&self) -> bool {
+        self.slots
+            .iter()
+            .all(|(id, s)| self.index.get(&s.cert.p) == Some(&id))
+            && self.live.len() == self.slots.len()
     }
 
     /// Every certificate with its id, in no particular order.
@@ -92,7 +153,7 @@ impl CertStore {
 
     /// Every certificate's points, in no particular order.
     pub(super) fn keys(&self) -> impl Iterator<Item = &[Att; 3]> + '_ {
-        self.index.keys()
+        self.slots.values().map(|s| &s.cert.p)
     }
 
     /// Every certificate, in no particular order.
@@ -167,5 +228,32 @@ mod tests {
         let c = store.insert_new(rec(1)).expect("the points are free again");
         assert_ne!(c, a);
         assert_eq!(store.len(), 2);
+    }
+
+    #[test]
+    fn stale_entries_are_purged_before_the_index_grows() {
+        let mut store = CertStore::default();
+        let mut ids: Vec<CertId> = (0..60).map(|v| store.insert(rec(v))).collect();
+        // churn: drop the oldest, store one on new points, many times over
+        for v in 60..20_000 {
+            let id = ids.remove(0);
+            let p = store.at(id).expect("stored").cert.p;
+            assert!(store.remove(id).is_some());
+            assert!(store.id(&p).is_none(), "a dropped certificate is found");
+            ids.push(store.insert_new(rec(v)).expect("new points"));
+            // (a strict index holds the 60 and grows once it is half full)
+            assert!(store.index.capacity() <= 4 * 60, "the index grew at {v}");
+        }
+        assert!(store.index_agrees());
+        assert_eq!(store.len(), 60);
+        assert_eq!(store.keys().count(), 60);
+        // a stale entry's points take a new certificate
+        let id = ids[0];
+        let p = store.at(id).expect("stored").cert.p;
+        store.remove(id);
+        let again = store.insert_new(rec(p[0].v)).expect("free points");
+        assert_ne!(again, id);
+        assert_eq!(store.id(&p), Some(again));
+        assert!(store.index_agrees());
     }
 }
