@@ -967,7 +967,8 @@ impl KineticEngine {
         let mut shapes = self.shapes.clone();
         if self.hierarchical {
             shapes.per.resize(world.len(), None);
-            shapes.per[b.index()] = refine::coarsest_shape(world.body(b), self.approximate_above);
+            shapes.per[b.index()] =
+                refine::coarsest_shape(world.body(b), self.approximate_above).map(Box::new);
             if let Err(e) = refine::separate_all_strictly_after(world, &mut shapes, now) {
                 self.k.unbuildable = Some(now.clone());
                 return Err(internal(e));

@@ -522,8 +522,11 @@ impl PointCache {
 /// How each body is seen: the real polygon, or an approximation.
 #[derive(Clone, Debug, Default)]
 pub struct Shapes {
-    /// Per body (by index); missing or `None`: the real polygon.
-    pub per: Vec<Option<Approx>>,
+    /// Per body (by index); missing or `None`: the real polygon. Boxed:
+    /// an approximation is 200 bytes, and the placement of every vertex
+    /// asks whether its body has one, which a vector of pointers answers
+    /// from 8 bytes a body (a cache line for eight bodies).
+    pub per: Vec<Option<Box<Approx>>>,
     /// Recently placed points ([`Geo::mid_rad`]).
     pub mids: MidCache,
     /// Recent corridor validity answers ([`super::Kss::faces_valid_on`]).
@@ -894,7 +897,7 @@ impl Shapes {
 
     /// The approximation of body `b`, if it is seen through one.
     pub fn approx(&self, b: BodyId) -> Option<&Approx> {
-        self.per.get(b.index()).and_then(Option::as_ref)
+        self.per.get(b.index()).and_then(Option::as_deref)
     }
 }
 

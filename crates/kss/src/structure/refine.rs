@@ -34,7 +34,7 @@ pub fn coarsest_shapes(world: &World, above: usize) -> Shapes {
         per: world
             .bodies()
             .iter()
-            .map(|b| coarsest_shape(b, above))
+            .map(|b| coarsest_shape(b, above).map(Box::new))
             .collect(),
         mids: Default::default(),
         faces: Default::default(),
