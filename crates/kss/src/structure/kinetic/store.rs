@@ -9,8 +9,9 @@
 //! dense map of the live ids answers in a few bytes per slot), a lookup
 //! reads a stale entry as none, and storing a certificate on the same
 //! points again overwrites it. The stale entries are purged in one pass
-//! when the index would otherwise grow, so it never holds more entries
-//! than the table a strict index would have. A drop is then one access to
+//! when the index would otherwise grow and at least an eighth of it is
+//! stale, so its table grows only when it is at least seven eighths live
+//! (the gasmix's peak heap is unchanged). A drop is then one access to
 //! the record and none to the index, whose buckets are scattered: the
 //! certificates that a removal drops are cold in the cache.
 
