@@ -160,11 +160,7 @@ impl Kinetic {
                 }
             }
             for o in &s.owners {
-                let list = match *o {
-                    Owner::Tri(t) => self.owned_tri.get(t.0 as usize),
-                    Owner::Corr(k) => self.owned_corr.get(k.0 as usize),
-                };
-                if !list.is_some_and(|l| l.contains(&id)) {
+                if !self.owned(*o).contains(&id) {
                     return bad(format!("owner {o:?} of {p:?} does not list it"));
                 }
             }
@@ -194,10 +190,10 @@ impl Kinetic {
             ));
         }
         let lists = (self.owned_tri.iter().enumerate())
-            .map(|(i, l)| (Owner::Tri(TriId(i as u32)), l))
+            .map(|(i, l)| (Owner::Tri(TriId(i as u32)), l.as_slice()))
             .chain(
                 (self.owned_corr.iter().enumerate())
-                    .map(|(i, l)| (Owner::Corr(CorrId(i as u32)), l)),
+                    .map(|(i, l)| (Owner::Corr(CorrId(i as u32)), l.as_slice())),
             );
         for (o, list) in lists {
             for &id in list {

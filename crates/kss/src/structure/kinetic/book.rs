@@ -630,7 +630,7 @@ impl Kinetic {
         world: &Geo,
         now: &Time,
     ) -> Result<(), StructureError> {
-        self.owned_tri = vec![Owned::new(); self.kss.tris.len()];
+        self.owned_tri = vec![None; self.kss.tris.len()];
         self.owned_corr = vec![Owned::new(); self.kss.corrs.len()];
         for ti in 0..self.kss.tris.len() {
             self.refresh(world, Owner::Tri(TriId(ti as u32)), now)?;
@@ -664,10 +664,7 @@ impl Kinetic {
             Owner::Tri(t) => self.kss.triangle_certs(t),
             Owner::Corr(k) => self.kss.corridor_certs(world, k, now),
         };
-        let old = match o {
-            Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
-            Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
-        };
+        let old = self.take_owned(o);
         // certificates that fail at `now` and have not been handled yet keep
         // their sign (and stay due now): recomputing them with the sign they
         // have just after `now` would swallow the failure when two fail at
@@ -709,15 +706,7 @@ impl Kinetic {
             }
         }
         let kept: arrayvec::ArrayVec<CertId, MAX_CERTS> = same.iter().flatten().copied().collect();
-        // (the old list's buffer, read above, takes the new one where it is
-        // of the size needed: no allocation, and no more memory kept)
-        let mut mine = if old.capacity() == fresh.len() {
-            let mut old = old;
-            old.clear();
-            old
-        } else {
-            Owned::with_capacity(fresh.len())
-        };
+        let mut mine = Owned::new();
         for (i, c) in fresh.iter().enumerate() {
             if let Some(id) = same[i] {
                 mine.push(id);
@@ -769,12 +758,47 @@ impl Kinetic {
             }
             mine.push(id);
         }
-        match o {
-            Owner::Tri(t) => self.owned_tri[t.0 as usize] = mine,
-            Owner::Corr(k) => self.owned_corr[k.0 as usize] = mine,
-        }
+        self.put_owned(o, mine);
         self.max_active = self.max_active.max(self.active_now());
         Ok(())
+    }
+
+    /// The certificates owner `o` owns (none for an owner out of range).
+    pub(super) fn owned(&self, o: Owner) -> &[CertId] {
+        match o {
+            Owner::Tri(t) => self
+                .owned_tri
+                .get(t.0 as usize)
+                .map_or(&[], Option::as_slice),
+            Owner::Corr(k) => self
+                .owned_corr
+                .get(k.0 as usize)
+                .map_or(&[], |l| l.as_slice()),
+        }
+    }
+
+    /// Take owner `o`'s list of certificates, leaving it empty.
+    pub(super) fn take_owned(&mut self, o: Owner) -> Owned {
+        match o {
+            Owner::Tri(t) => self.owned_tri[t.0 as usize].take().into_iter().collect(),
+            Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
+        }
+    }
+
+    /// Make `mine` owner `o`'s list of certificates (at most one for a
+    /// triangle).
+    pub(super) fn put_owned(&mut self, o: Owner, mine: Owned) {
+        match o {
+            Owner::Tri(t) => {
+                debug_assert!(
+                    mine.len() <= 1,
+                    "a triangle owns {} certificates",
+                    mine.len()
+                );
+                self.owned_tri[t.0 as usize] = mine.first().copied();
+            }
+            Owner::Corr(k) => self.owned_corr[k.0 as usize] = mine,
+        }
     }
 
     /// Schedule certificate `c`, not yet known, for owner `o`: its id.

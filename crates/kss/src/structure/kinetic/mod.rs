@@ -48,12 +48,13 @@ pub use tally::{Rebuild, Tally};
 use instant::InstantState;
 use store::{CertId, CertStore};
 
-/// The certificates an owner owns, in its order: inline for one (a
-/// partition triangle owns one; a corridor up to [`MAX_CERTS`], on the
-/// heap), the size of a `Vec` either way.
+/// The certificates a corridor owns, in its order, inline: at most
+/// [`MAX_CERTS`] (its junctions or hull turns), so that a refresh neither
+/// allocates nor follows a pointer to read or replace them. A partition
+/// triangle owns at most one ([`Kinetic::owned_tri`]).
 ///
 /// [`MAX_CERTS`]: crate::structure::local::MAX_CERTS
-type Owned = smallvec::SmallVec<[CertId; 1]>;
+type Owned = arrayvec::ArrayVec<CertId, { crate::structure::local::MAX_CERTS }>;
 
 /// A hash map with a fixed hasher (the same order in every run).
 type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
@@ -304,8 +305,9 @@ pub struct Kinetic {
     /// order matters (it decides the queue's insertion order, the last
     /// tie-breaker).
     by_body: ByBody,
-    /// The certificates each partition triangle owns.
-    owned_tri: Vec<Owned>,
+    /// The certificate each partition triangle owns (its orientation;
+    /// none for a triangle with a corner at `ω`).
+    owned_tri: Vec<Option<CertId>>,
     /// The certificates each corridor owns.
     owned_corr: Vec<Owned>,
     /// The certificates whose exact failure time could be the next one

@@ -549,10 +549,7 @@ impl Kinetic {
         let dead = (plan.dead_tris.iter().map(|&t| Owner::Tri(t)))
             .chain(plan.dead_corrs.iter().map(|&k| Owner::Corr(k)));
         for o in dead {
-            let mine = match o {
-                Owner::Tri(t) => std::mem::take(&mut self.owned_tri[t.0 as usize]),
-                Owner::Corr(k) => std::mem::take(&mut self.owned_corr[k.0 as usize]),
-            };
+            let mine = self.take_owned(o);
             for id in mine {
                 if let Some(s) = self.certs.at_mut(id) {
                     s.owners.retain(|x| *x != o);
@@ -564,11 +561,11 @@ impl Kinetic {
         }
         let spliced = self.kss.apply_removal(plan);
         for &(src, dst) in &spliced.moved_tris {
-            let mine = std::mem::take(&mut self.owned_tri[src.0 as usize]);
-            self.rename(&mine, Owner::Tri(src), Owner::Tri(dst));
+            let mine = self.owned_tri[src.0 as usize].take();
+            self.rename(mine.as_slice(), Owner::Tri(src), Owner::Tri(dst));
             self.owned_tri[dst.0 as usize] = mine;
         }
-        self.owned_tri.resize(self.kss.tris.len(), Owned::new());
+        self.owned_tri.resize(self.kss.tris.len(), None);
         for &(src, dst) in &spliced.moved_corrs {
             let mine = std::mem::take(&mut self.owned_corr[src.0 as usize]);
             self.rename(&mine, Owner::Corr(src), Owner::Corr(dst));

@@ -67,11 +67,12 @@ fn the_audit_reports_ids_out_of_step_with_the_records() {
     assert!(k.audit(&world, &now, &at).is_err());
     // its owner's list without it
     let mut k = fresh();
-    let list = match owner {
-        Owner::Tri(t) => &mut k.owned_tri[t.0 as usize],
-        Owner::Corr(c) => &mut k.owned_corr[c.0 as usize],
-    };
-    list.retain(|x| *x != id);
+    match owner {
+        Owner::Tri(t) => {
+            k.owned_tri[t.0 as usize].take_if(|x| *x == id);
+        }
+        Owner::Corr(c) => k.owned_corr[c.0 as usize].retain(|x| *x != id),
+    }
     assert!(k.audit(&world, &now, &at).is_err());
     // its queued event naming another certificate
     let mut k = fresh();
