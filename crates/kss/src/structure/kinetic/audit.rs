@@ -202,6 +202,19 @@ impl Kinetic {
                 }
             }
         }
+        // a popped time belongs to a stored certificate out of the queue
+        for id in self.certs.popped_ids() {
+            match self.certs.at(id) {
+                Some(s) if s.key.is_none() => {}
+                Some(s) => {
+                    return bad(format!(
+                        "certificate {:?} is queued and has a popped time",
+                        s.cert.p
+                    ));
+                }
+                None => return bad("a popped time for a dropped certificate".into()),
+            }
+        }
         Ok(())
     }
 }

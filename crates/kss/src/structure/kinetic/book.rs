@@ -619,7 +619,6 @@ fn unscheduled(c: Cert, o: Owner) -> Scheduled {
         key: None,
         owners: smallvec::smallvec![o],
         fp: None,
-        popped: None,
         idle: false,
     }
 }
@@ -697,7 +696,7 @@ impl Kinetic {
                 let due = self.instant.handling == Some(p) || self.due_now(&p, key, now);
                 if self.instant.handling != Some(p) && due {
                     let s = self.certs.at(id).expect("stored");
-                    let at = due_time(&self.queue, key, &s.popped);
+                    let at = due_time(&self.queue, key, self.certs.popped(id));
                     if due_is_failing(world, &cert, (s.fp.as_deref(), at), now) {
                         pending.insert(p, cert);
                     }
@@ -884,11 +883,12 @@ impl Kinetic {
             if let Some(k) = s.key.take() {
                 cancel_in((&mut self.queue, &mut self.far), k);
             }
-            (s.fp, s.popped) = (None, None);
+            s.fp = None;
             if !s.idle {
                 s.idle = true;
                 self.idle += 1;
             }
+            self.certs.clear_popped(id);
         }
     }
 
@@ -922,7 +922,8 @@ impl Kinetic {
         let e = e.unwrap_or_else(|| cert_enclosure(world, &s.cert));
         let queues = (&mut self.queue, &mut self.far);
         let (key, fp) = enqueue_with(queues, world, (&s.cert, id), now, e);
-        (s.key, s.fp, s.popped) = (key, fp, None);
+        (s.key, s.fp) = (key, fp);
+        self.certs.clear_popped(id);
         self.max_active = self.max_active.max(self.active_now());
     }
 

@@ -175,11 +175,10 @@ struct Scheduled {
     /// deferred: its computation holds the points, and
     /// [`book::schedule_fp`] reads them there (no allocation and no
     /// lookup of the points for most certificates).
-    /// (Boxed, as is `popped`: the map of certificates stays small.)
+    /// (Boxed: the map of certificates stays small. The time a
+    /// certificate out of the queue was popped at is kept by the store,
+    /// [`CertStore::popped`].)
     fp: Option<Box<(Fingerprint, bool)>>,
-    /// The failure time it was popped (or taken out of the queue) at, while
-    /// it waits to be handled or handled again (`None` while queued).
-    popped: Option<Box<Time>>,
     /// Out of the queue until the end of a bridge of one of its bodies
     /// ([`Kinetic::idle_until_bridge_end`]).
     idle: bool,
@@ -270,12 +269,12 @@ struct FarEntry {
 fn due_time<'a>(
     queue: &'a EventQueue<Time, CertId>,
     key: Option<QKey>,
-    popped: &'a Option<Box<Time>>,
+    popped: Option<&'a Time>,
 ) -> Option<&'a Time> {
     match key {
         Some(QKey::Near(k)) => queue.get(k).map(|(t, _)| t),
         Some(QKey::Far(_)) => None,
-        None => popped.as_deref(),
+        None => popped,
     }
 }
 

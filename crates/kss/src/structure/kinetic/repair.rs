@@ -637,7 +637,10 @@ impl Kinetic {
                 && due_is_failing(
                     world,
                     &s.cert,
-                    (s.fp.as_deref(), due_time(&self.queue, s.key, &s.popped)),
+                    (
+                        s.fp.as_deref(),
+                        due_time(&self.queue, s.key, self.certs.popped(id)),
+                    ),
                     now,
                 )
             {

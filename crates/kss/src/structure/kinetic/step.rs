@@ -297,7 +297,8 @@ impl Kinetic {
             )));
         }
         s.key = None;
-        s.popped = Some(Box::new(t.clone()));
+        self.certs.set_popped(id, t.clone());
+        let s = self.certs.at(id).expect("stored");
         trace!(
             "pop t={} tie {tie} {:?} {:?}",
             t.to_f64(),
@@ -542,17 +543,20 @@ impl Kinetic {
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, StructureError> {
-        let Some(s) = self.certs.get(&p) else {
+        let Some((id, s)) = self
+            .certs
+            .id(&p)
+            .and_then(|id| Some((id, self.certs.at(id)?)))
+        else {
             return Ok(Step::Deferred(t)); // replaced by an earlier operation
         };
         if s.key.is_some() {
             return Ok(Step::Deferred(t)); // rescheduled meanwhile
         }
-        // (the popped time itself, not its box: no allocation)
         let (cert, fp, popped) = (
             s.cert,
             s.fp.as_deref().copied(),
-            s.popped.as_deref().cloned(),
+            self.certs.popped(id).cloned(),
         );
         let owners = s.owners.clone();
         if self.instant.recent_at.as_ref() != Some(&t) {
@@ -686,18 +690,20 @@ impl Kinetic {
                 // (only the triangle whose corner the operation would move)
                 let collapsing = moved_tri.and_then(|tri| {
                     let q = self.kss.triangle_certs(tri).first().map(|c| c.p)?;
-                    let s = self.certs.get(&q)?;
+                    let qid = self.certs.id(&q)?;
+                    let s = self.certs.at(qid)?;
                     let due = s
                         .key
                         .and_then(QKey::near)
                         .is_some_and(|key| self.queue.get(key).is_some_and(|(tq, _)| *tq == t));
-                    let at = due_time(&self.queue, s.key, &s.popped);
+                    let at = due_time(&self.queue, s.key, self.certs.popped(qid));
                     (q != p && due && due_is_failing(world, &s.cert, (s.fp.as_deref(), at), &t))
                         .then_some((tri, q))
                 });
                 if let Some((_tri, q)) = collapsing {
                     trace!("triangle {} collapses first", _tri.0);
-                    if let Some(s) = self.certs.get_mut(&q) {
+                    let qid = self.certs.id(&q);
+                    if let Some((qid, s)) = qid.and_then(|id| Some((id, self.certs.at_mut(id)?))) {
                         // (due at this instant: in the queue of exact times)
                         if let Some(key) = s.key.and_then(QKey::near) {
                             s.key = None;
@@ -709,7 +715,7 @@ impl Kinetic {
                                 s.fp = super::book::schedule_fp(None, own).map(Box::new);
                             }
                             self.queue.cancel(key);
-                            s.popped = Some(Box::new(t.clone()));
+                            self.certs.set_popped(qid, t.clone());
                         }
                     }
                     self.reschedule(world, &p, &t);

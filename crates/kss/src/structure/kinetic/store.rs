@@ -14,6 +14,11 @@
 //! (the gasmix's peak heap is unchanged). A drop is then one access to
 //! the record and none to the index, whose buckets are scattered: the
 //! certificates that a removal drops are cold in the cache.
+//!
+//! The time a certificate out of the queue was popped at (while it waits
+//! to be handled) is in a small map by id beside the records: a few
+//! entries at a time, so that a pop allocates nothing and no record
+//! carries the field.
 
 use super::{FastMap, Scheduled};
 use crate::structure::Att;
@@ -38,6 +43,11 @@ pub(super) struct CertStore {
     /// The live ids (a version per slot: four bytes, where a record of
     /// `slots` is over a hundred), read where an id may be stale.
     live: slotmap::SecondaryMap<CertId, ()>,
+    /// The failure time each certificate that is out of the queue was
+    /// popped (or taken out of the queue) at, while it waits to be handled
+    /// or handled again: a few at a time, kept apart from the records so
+    /// that a pop neither allocates nor makes every record larger.
+    popped: FastMap<CertId, crate::num::Time>,
 }
 
 impl CertStore {
@@ -59,12 +69,6 @@ impl CertStore {
     /// The certificate on `p`.
     pub(super) fn get(&self, p: &[Att; 3]) -> Option<&Scheduled> {
         self.at(self.id(p)?)
-    }
-
-    /// The certificate on `p`, to change.
-    pub(super) fn get_mut(&mut self, p: &[Att; 3]) -> Option<&mut Scheduled> {
-        let id = self.id(p)?;
-        self.at_mut(id)
     }
 
     /// The certificate with id `id` (`None` once it is dropped).
@@ -115,11 +119,41 @@ impl CertStore {
     }
 
     /// Take the certificate with id `id` out of the store (its index entry
-    /// stays, stale: module docs).
+    /// stays, stale: module docs; its popped time goes).
     pub(super) fn remove(&mut self, id: CertId) -> Option<Scheduled> {
         let s = self.slots.remove(id)?;
         self.live.remove(id);
+        self.clear_popped(id);
         Some(s)
+    }
+
+    /// The failure time certificate `id` was popped at, while it is out of
+    /// the queue waiting to be handled (`None` otherwise).
+    pub(super) fn popped(&self, id: CertId) -> Option<&crate::num::Time> {
+        if self.popped.is_empty() {
+            return None;
+        }
+        self.popped.get(&id)
+    }
+
+    /// Note that certificate `id` was popped at `t`.
+    pub(super) fn set_popped(&mut self, id: CertId, t: crate::num::Time) {
+        debug_assert!(self.is_live(id), "a popped time for a dropped certificate");
+        self.popped.insert(id, t);
+    }
+
+    /// Forget the time certificate `id` was popped at (it is queued again,
+    /// idle or dropped).
+    pub(super) fn clear_popped(&mut self, id: CertId) {
+        if !self.popped.is_empty() {
+            self.popped.remove(&id);
+        }
+    }
+
+    /// The ids that have a popped time (the audit checks that each is
+    /// live and out of the queue).
+    pub(super) fn popped_ids(&self) -> impl Iterator<Item = CertId> + '_ {
+        self.popped.keys().copied()
     }
 
     /// Purge the index's stale entries if it is full (the next new key
@@ -186,7 +220,6 @@ mod tests {
             key: None,
             owners: smallvec::smallvec![Owner::Tri(TriId(v))],
             fp: None,
-            popped: None,
             idle: false,
         }
     }

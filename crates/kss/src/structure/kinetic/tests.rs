@@ -34,7 +34,8 @@ fn scheduled_certificates_audit_clean_before_the_first_event() {
 
 /// The audit checks the certificates' ids, not only their records: a
 /// body's set, an owner's list or the queue's payload that lost or
-/// changed an id is reported.
+/// changed an id is reported, and so is a popped time kept for a
+/// certificate that is queued.
 #[test]
 fn the_audit_reports_ids_out_of_step_with_the_records() {
     let s = generate_small(Family::ALL[0], 1);
@@ -81,6 +82,10 @@ fn the_audit_reports_ids_out_of_step_with_the_records() {
         QKey::Near(key) => *k.queue.payload_mut(key).unwrap() = other,
         QKey::Far(key) => k.far.payload_mut(key).unwrap().id = other,
     }
+    assert!(k.audit(&world, &now, &at).is_err());
+    // a popped time for a certificate that is still queued
+    let mut k = fresh();
+    k.certs.set_popped(id, now.clone());
     assert!(k.audit(&world, &now, &at).is_err());
 }
 
