@@ -62,13 +62,16 @@ pub const MAX_CERTS: usize = 8;
 /// The junctions of one face: two per chain piece at most.
 type FaceJunctions = ArrayVec<Junction, 4>;
 
-/// The last `N` points placed at one instant, with the next entry to
-/// replace (`ω` marks an unused entry: nothing places it): a walk's
-/// ([`Kss::walk`], whose steps share their points) and a validity check's
-/// (a corridor's junctions share most of theirs: a corner is the next
-/// junction's neighbour). The points are kept as their words
-/// ([`Att::word`]) apart from the places, so that a search reads one
-/// short array.
+/// Points placed at one instant (`ω` marks an unused entry: nothing
+/// places it): a walk's ([`Kss::walk`], whose steps share their points)
+/// and a validity check's (a corridor's junctions share most of theirs: a
+/// corner is the next junction's neighbour). Below 16 entries, the last
+/// `N` points placed, searched, with the next entry to replace; from 16,
+/// each point in the entry its word's hash names (a validity check's
+/// memo: one comparison per lookup where a search took up to sixteen). The
+/// points are kept as their words ([`Att::word`]) apart from the places,
+/// so that a search reads one short array. A point that is not found is
+/// placed again, to the same place: the memo changes no answer.
 pub(crate) struct PointMemo<const N: usize> {
     keys: [u64; N],
     places: [Option<crate::geom::MidRad>; N],
@@ -94,6 +97,18 @@ impl<const N: usize> PointMemo<N> {
         t: crate::num::Interval,
     ) -> Option<crate::geom::MidRad> {
         let w = a.word();
+        if N >= 16 {
+            // (a larger memo is direct-mapped by a hash of the word: one
+            // comparison instead of a search; a point whose entry another
+            // took is placed again, to the same place)
+            let i = ((w ^ (w >> 29)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as usize % N;
+            if self.keys[i] == w {
+                return self.places[i];
+            }
+            let m = world.mid_rad(a, t);
+            (self.keys[i], self.places[i]) = (w, m);
+            return m;
+        }
         if let Some(i) = self.keys.iter().position(|&k| k == w) {
             return self.places[i];
         }
