@@ -543,11 +543,7 @@ impl Kinetic {
         contacts: &[(BodyId, BodyId)],
         collides: &dyn Fn(BodyId, BodyId, &Time) -> bool,
     ) -> Result<Step, StructureError> {
-        let Some((id, s)) = self
-            .certs
-            .id(&p)
-            .and_then(|id| Some((id, self.certs.at(id)?)))
-        else {
+        let Some((id, s)) = self.certs.find(&p) else {
             return Ok(Step::Deferred(t)); // replaced by an earlier operation
         };
         if s.key.is_some() {
@@ -690,8 +686,7 @@ impl Kinetic {
                 // (only the triangle whose corner the operation would move)
                 let collapsing = moved_tri.and_then(|tri| {
                     let q = self.kss.triangle_certs(tri).first().map(|c| c.p)?;
-                    let qid = self.certs.id(&q)?;
-                    let s = self.certs.at(qid)?;
+                    let (qid, s) = self.certs.find(&q)?;
                     let due = s
                         .key
                         .and_then(QKey::near)
@@ -702,8 +697,7 @@ impl Kinetic {
                 });
                 if let Some((_tri, q)) = collapsing {
                     trace!("triangle {} collapses first", _tri.0);
-                    let qid = self.certs.id(&q);
-                    if let Some((qid, s)) = qid.and_then(|id| Some((id, self.certs.at_mut(id)?))) {
+                    if let Some((qid, s)) = self.certs.find_mut(&q) {
                         // (due at this instant: in the queue of exact times)
                         if let Some(key) = s.key.and_then(QKey::near) {
                             s.key = None;

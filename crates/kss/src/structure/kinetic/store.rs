@@ -71,6 +71,18 @@ impl CertStore {
         self.at(self.id(p)?)
     }
 
+    /// The certificate on `p` with its id.
+    pub(super) fn find(&self, p: &[Att; 3]) -> Option<(CertId, &Scheduled)> {
+        let id = self.id(p)?;
+        Some((id, self.slots.get(id)?))
+    }
+
+    /// The certificate on `p` with its id, to change.
+    pub(super) fn find_mut(&mut self, p: &[Att; 3]) -> Option<(CertId, &mut Scheduled)> {
+        let id = self.id(p)?;
+        Some((id, self.slots.get_mut(id)?))
+    }
+
     /// The certificate with id `id` (`None` once it is dropped).
     pub(super) fn at(&self, id: CertId) -> Option<&Scheduled> {
         self.slots.get(id)
