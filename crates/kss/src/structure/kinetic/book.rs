@@ -226,23 +226,31 @@ impl ExactTime for DeferredFailure {
     }
 }
 
+/// Certificate enclosure `e` (a [`cert_enclosure`]) paired with what
+/// [`filtered_failure`] makes of it at `now`. A scheduling asks the filter
+/// once: the answer serves the far queue ([`far_failure`]) and then
+/// [`failure_time`].
+pub(super) fn filter_at(e: Option<[Interval; 3]>, now: &Time) -> Option<([Interval; 3], Filtered)> {
+    e.map(|e| (e, filtered_failure(e, now.interval())))
+}
+
 /// When certificate `c` fails, given that `now` is the current time: `now`
 /// itself if it is already wrong just after `now`, else the first later root
-/// where it stops being positive, if any; `e` is the certificate's
-/// [`cert_enclosure`].
+/// where it stops being positive, if any; `filtered` is the certificate's
+/// [`cert_enclosure`] with the filter's answer ([`filter_at`]).
 pub(super) fn failure_time(
     world: &Geo,
     c: &Cert,
     now: &Time,
-    e: Option<[Interval; 3]>,
+    filtered: Option<([Interval; 3], Filtered)>,
 ) -> Option<Time> {
     use crate::structure::counters::{bump, Counter};
     bump(Counter::FailureTimes);
     // (`None` only if a point is no vertex of its body's approximation,
     // which the enclosures already rule out)
     let deferred = |iv: Interval| deferred_failure(world, c, iv);
-    if let Some(e) = e {
-        match filtered_failure(e, now.interval()) {
+    if let Some((_, f)) = filtered {
+        match f {
             Filtered::Never => return None,
             Filtered::At(iv) => {
                 if let Some(t) = deferred(iv) {
@@ -252,6 +260,7 @@ pub(super) fn failure_time(
             Filtered::Unsure => {}
         }
     }
+    let e = filtered.map(|(e, _)| e);
     // the sign just after `now` of an orientation certificate (most often
     // zero at `now`: its points were collinear at this event) from the
     // instant's memo of exact turns, when it knows it
@@ -486,7 +495,8 @@ fn enqueue_with(
     now: &Time,
     e: Option<[Interval; 3]>,
 ) -> (Option<QKey>, Option<Box<(Fingerprint, bool)>>) {
-    if let Some((iv, preds)) = e.and_then(|e| far_failure(world, c, now, e)) {
+    let filtered = filter_at(e, now);
+    if let Some((iv, preds)) = filtered.and_then(|(_, f)| far_failure(world, c, now, f)) {
         let entry = FarEntry {
             id,
             preds,
@@ -499,7 +509,7 @@ fn enqueue_with(
         };
         return (Some(QKey::Far(far.schedule(FarTime(iv), 0, entry))), None);
     }
-    let Some(t) = failure_time(world, c, now, e) else {
+    let Some(t) = failure_time(world, c, now, filtered) else {
         return (None, None);
     };
     // (a deferred time made here holds the points it was computed for: the
@@ -527,19 +537,15 @@ fn enqueue_with(
 }
 
 /// The enclosure of certificate `c`'s failure time after `now` where the
-/// f64 filter isolates it strictly after `now` (`e`: its
-/// [`cert_enclosure`]), as [`failure_time`] would defer it, and the ids
-/// before its points' ids ([`Geo::pred_id`]), which tell the points it
-/// was computed for: the exact time is that deferred time on those points
-/// ([`far_deferred`]), made when it could be the next failure.
-fn far_failure(
-    world: &Geo,
-    c: &Cert,
-    now: &Time,
-    e: [Interval; 3],
-) -> Option<(Interval, [u32; 3])> {
+/// f64 filter isolates it strictly after `now` (`f`: [`filtered_failure`]
+/// of its [`cert_enclosure`] at `now`), as [`failure_time`] would defer
+/// it, and the ids before its points' ids ([`Geo::pred_id`]), which tell
+/// the points it was computed for: the exact time is that deferred time
+/// on those points ([`far_deferred`]), made when it could be the next
+/// failure.
+fn far_failure(world: &Geo, c: &Cert, now: &Time, f: Filtered) -> Option<(Interval, [u32; 3])> {
     let after = now.interval();
-    match filtered_failure(e, after) {
+    match f {
         Filtered::At(iv) if iv.lo > after.hi => {
             // (the enclosure `e` exists only for vertices of the bodies'
             // views, which have them)

@@ -361,7 +361,9 @@ fn failure_times_of_two_points_on_one_body_are_known_rational() {
                         kind: CertKind::Junction,
                     };
                     let e = cert_enclosure(geo, &c);
-                    let Some(t) = super::book::failure_time(geo, &c, &now, e) else {
+                    let Some(t) =
+                        super::book::failure_time(geo, &c, &now, super::book::filter_at(e, &now))
+                    else {
                         continue;
                     };
                     if !t.is_pending() {
