@@ -178,6 +178,9 @@ struct Lists {
     clean: Vec<usize>,
     /// The written ids being replayed (kept for its buffer).
     writes: Vec<u32>,
+    /// Per body, its number of entries, counted for a rebuild (kept for its
+    /// buffer).
+    count: Vec<u32>,
 }
 
 impl Lists {
@@ -209,9 +212,30 @@ impl Lists {
                 }
             }
         } else {
-            // (each list emptied, its buffer kept for the same body)
+            // (each list emptied, its buffer kept for the same body and
+            // grown once to the body's count, rather than doubled entry by
+            // entry)
             self.of.iter_mut().for_each(Vec::clear);
             self.clean.iter_mut().for_each(|c| *c = 0);
+            let count = &mut self.count;
+            count.clear();
+            count.resize(self.of.len(), 0);
+            for x in slots.iter() {
+                for b in x.bodies().into_iter().flatten() {
+                    let i = b.index();
+                    if i >= count.len() {
+                        count.resize(i + 1, 0);
+                    }
+                    count[i] += 1;
+                }
+            }
+            if self.of.len() < count.len() {
+                self.of.resize_with(count.len(), Vec::new);
+                self.clean.resize(count.len(), 0);
+            }
+            for (list, &n) in self.of.iter_mut().zip(count.iter()) {
+                list.reserve_exact(n as usize);
+            }
             for (id, x) in slots.iter().enumerate() {
                 for b in x.bodies().into_iter().flatten() {
                     self.add(b, id as u32);
