@@ -547,8 +547,8 @@ fn far_failure(world: &Geo, c: &Cert, now: &Time, f: Filtered) -> Option<(Interv
     let after = now.interval();
     match f {
         Filtered::At(iv) if iv.lo > after.hi => {
-            // (the enclosure `e` exists only for vertices of the bodies'
-            // views, which have them)
+            // (a certificate has an enclosure only where its points are
+            // vertices of the bodies' views, which have them)
             let pred = |j: usize| world.pred_id(c.p[j]);
             let preds = [pred(0)?, pred(1)?, pred(2)?];
             crate::structure::counters::bump(crate::structure::counters::Counter::FailureTimes);
