@@ -269,7 +269,7 @@ impl Clone for GridBox {
 
 /// The slot of a direct-mapped table of `len` entries (a power of two)
 /// for the hash of `h` (a multiplicative hash: its top bits).
-fn slot(h: u64, len: usize) -> usize {
+pub(crate) fn slot(h: u64, len: usize) -> usize {
     (h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - len.trailing_zeros())) as usize
 }
 

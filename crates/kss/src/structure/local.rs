@@ -101,7 +101,9 @@ impl<const N: usize> PointMemo<N> {
             // (a larger memo is direct-mapped by a hash of the word: one
             // comparison instead of a search; a point whose entry another
             // took is placed again, to the same place)
-            let i = ((w ^ (w >> 29)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as usize % N;
+            // (`slot` takes the hash's top bits: `N` is a power of two)
+            const { assert!(N < 16 || N.is_power_of_two()) };
+            let i = super::geo::slot(w ^ (w >> 29), N);
             if self.keys[i] == w {
                 return self.places[i];
             }

@@ -68,19 +68,19 @@ impl CertStore {
 
     /// The certificate on `p`.
     pub(super) fn get(&self, p: &[Att; 3]) -> Option<&Scheduled> {
-        self.at(self.id(p)?)
+        self.find(p).map(|(_, s)| s)
     }
 
     /// The certificate on `p` with its id.
     pub(super) fn find(&self, p: &[Att; 3]) -> Option<(CertId, &Scheduled)> {
         let id = self.id(p)?;
-        Some((id, self.slots.get(id)?))
+        Some((id, self.at(id)?))
     }
 
     /// The certificate on `p` with its id, to change.
     pub(super) fn find_mut(&mut self, p: &[Att; 3]) -> Option<(CertId, &mut Scheduled)> {
         let id = self.id(p)?;
-        Some((id, self.slots.get_mut(id)?))
+        Some((id, self.at_mut(id)?))
     }
 
     /// The certificate with id `id` (`None` once it is dropped).
