@@ -184,7 +184,16 @@ impl Kinetic {
         // motions they may part, and the corridor's certificates are then
         // its two junctions again.
         let resting = if whole {
-            self.resting_now(world, &ids, now)
+            // (the bodies whose points may part: those whose motion
+            // changed, and those of the contacts set aside for the response)
+            let mut moved: Vec<BodyId> = bodies.to_vec();
+            moved.extend(waiting.iter().flatten().filter_map(|a| match a.obj {
+                Obj::Body(b) => Some(b),
+                Obj::Omega => None,
+            }));
+            moved.sort_unstable();
+            moved.dedup();
+            self.resting_now(world, &ids, &moved, now)
         } else {
             BTreeSet::new()
         };
@@ -429,11 +438,15 @@ impl Kinetic {
     /// vertex resting on a bridge's end), or two points of a hull turn.
     /// While they rest, a turn through both is zero and has no certificate;
     /// a motion change that parts them must give the corridor its
-    /// certificates anew.
+    /// certificates anew. Only a corridor on one of the bodies `moved`
+    /// (sorted), or on the hull, can have points that part: the points of a
+    /// corridor between two bodies are theirs, and two bodies whose motions
+    /// stay keep their points where they were.
     pub(super) fn resting_now(
         &self,
         world: &Geo,
         ids: &[Option<CertId>],
+        moved: &[BodyId],
         now: &Time,
     ) -> BTreeSet<CorrId> {
         // (two points of two bodies whose boxes are apart at `now` do not
@@ -481,6 +494,14 @@ impl Kinetic {
                 cands.extend(self.kss.tris[tri.0 as usize].corr);
             }
         }
+        let parts = |o: Obj| match o {
+            Obj::Body(b) => moved.binary_search(&b).is_ok(),
+            Obj::Omega => true,
+        };
+        cands.retain(|&k| {
+            let c = &self.kss.corrs[k.0 as usize];
+            parts(c.a) || parts(c.b)
+        });
         cands.sort_unstable();
         cands.dedup();
         // (two bodies none of whose vertices can be at one place at `now`,
