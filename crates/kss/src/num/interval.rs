@@ -111,6 +111,20 @@ impl Interval {
         if x.unsigned_abs() < 1 << 53 {
             return Interval::point(x as i64 as f64);
         }
+        // (below 2^62 the hardware conversion of an `i64` rounds to the
+        // nearest double as the software one of an `i128` does, and `v`,
+        // at most 2^62, converts back exactly)
+        if x.unsigned_abs() < 1 << 62 {
+            let (n, v) = (x as i64, x as i64 as f64);
+            return if v as i64 == n {
+                Interval::point(v)
+            } else {
+                Interval {
+                    lo: down(v),
+                    hi: up(v),
+                }
+            };
+        }
         let v = x as f64;
         // (`v` is an integer in [−2^127, 2^127]; `v as i128` is exact below
         // 2^127 and saturates at it, so that value is left out)
@@ -413,6 +427,15 @@ mod tests {
             i128::MIN,
             i128::MIN + 1,
             (1 << 126) - 3,
+            (1 << 62) - 1,
+            -(1 << 62) + 1,
+            1 << 62,
+            (1 << 62) + 1,
+            (1 << 61) + 1,
+            -(1 << 61) - 3,
+            (1 << 54) + 2,
+            (1 << 54) + 1,
+            -(1 << 54) - 1,
         ];
         for x in cases {
             let iv = Interval::of_i128(x);
@@ -433,6 +456,33 @@ mod tests {
                 Interval::of_int(&exact).lo == Interval::of_int(&exact).hi,
                 "{x}"
             );
+        }
+    }
+
+    /// Between 2^53 and 2^62 in magnitude, `of_i128` (the `i64`
+    /// conversion) is the enclosure of the `i128` conversion: the point
+    /// where that double is the integer, else the two doubles next to it.
+    #[test]
+    fn i128_enclosures_between_2_53_and_2_62() {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        for i in 0..20_000u32 {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            // (every bit length from 54 to 62, both signs)
+            let bits = 54 + (i % 9);
+            let magnitude = (state >> (64 - bits)) as i128 | 1 << (bits - 1);
+            let x = if i % 2 == 0 { magnitude } else { -magnitude };
+            let v = x as f64;
+            let reference = if v as i128 == x {
+                Interval::point(v)
+            } else {
+                Interval {
+                    lo: v.next_down(),
+                    hi: v.next_up(),
+                }
+            };
+            assert_eq!(Interval::of_i128(x), reference, "{x}");
         }
     }
 
