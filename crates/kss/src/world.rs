@@ -1073,7 +1073,10 @@ impl World {
     /// asks the contact interval). The rule is symmetric in `a` and `b`;
     /// the contact is asked for in the order of the polygons' ids, the
     /// order in which a collision is reported and responded to, so that
-    /// its point and response find it in the memo.
+    /// its point and response find it in the memo. Whether the pair
+    /// approaches along a normal is decided by the frames' velocity
+    /// enclosures where they decide it: after a response both bodies are
+    /// on bridges, whose exact velocities are reduced only when read.
     pub(crate) fn touch_collides(
         &self,
         a: BodyId,
@@ -1090,12 +1093,37 @@ impl World {
             // (apart, or already overlapping: no contact begins at `t`)
             return (!answered).then_some(false);
         };
-        let rel = self
-            .body(b)
-            .traj
-            .velocity()
-            .sub(self.body(a).traj.velocity());
-        let approaches = |m: &Point| rel.dot(m).sign() == Sign::Negative;
+        // (the sign of `(v_b − v_a)·m` from the frames' velocity
+        // enclosures where they decide it; the exact velocities only where
+        // not, computed once: a bridge's are reduced when read)
+        let [ax, ay] = self.body(a).frame.velocity_enclosure();
+        let [bx, by] = self.body(b).frame.velocity_enclosure();
+        let (rx, ry) = (bx - ax, by - ay);
+        let rel = std::cell::OnceCell::new();
+        let approaches = |m: &Point| {
+            match (rx * m.x.interval() + ry * m.y.interval()).sign() {
+                Some(s @ (Sign::Positive | Sign::Negative)) => {
+                    debug_assert_eq!(
+                        s,
+                        (self.body(b).traj.clone().velocity())
+                            .sub(self.body(a).traj.clone().velocity())
+                            .dot(m)
+                            .sign(),
+                        "the filtered sign of an approach"
+                    );
+                    s
+                }
+                _ => rel
+                    .get_or_init(|| {
+                        self.body(b)
+                            .traj
+                            .velocity()
+                            .sub(self.body(a).traj.velocity())
+                    })
+                    .dot(m)
+                    .sign(),
+            }
+        } == Sign::Negative;
         Some(if answered {
             c.edge_normals.iter().all(approaches)
         } else {
