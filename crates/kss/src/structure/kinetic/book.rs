@@ -72,15 +72,20 @@ pub(super) fn cert_poly_of(
 /// is exactly zero (a velocity difference of two points of one body) is
 /// the exact zero.
 pub(super) fn cert_enclosure(world: &Geo, c: &Cert) -> Option<[Interval; 3]> {
+    cert_enclosure_with(c, |a| world.linear_mr(a))
+}
+
+/// [`cert_enclosure`] with each point's [`Geo::linear_mr`] from `linear`
+/// (a memo of them, where many certificates share points).
+pub(super) fn cert_enclosure_with(
+    c: &Cert,
+    mut linear: impl FnMut(Att) -> Option<[crate::geom::Mr; 4]>,
+) -> Option<[Interval; 3]> {
     use crate::geom::EPS;
     let order = c.kind == crate::structure::certs::CertKind::Order;
     // the same points as cert_poly: Order is −(p0 − p1)·(p2 − p1)
     let [p, q, r] = if order { [c.p[1], c.p[0], c.p[2]] } else { c.p };
-    let [ep, eq, er] = [
-        world.linear_mr(p)?,
-        world.linear_mr(q)?,
-        world.linear_mr(r)?,
-    ];
+    let [ep, eq, er] = [linear(p)?, linear(q)?, linear(r)?];
     // b − a per component `[x0, x1, y0, y1]` as (value, bound); the
     // velocity part is exactly zero for two points of one body
     let diff = |same: bool, ea: &[crate::geom::Mr; 4], eb: &[crate::geom::Mr; 4]| {
@@ -409,13 +414,21 @@ pub(super) fn holds_until_bridge_end(now: &Time, end: &Time, e: Option<[Interval
 /// value at `now`, less the error of the f64 evaluation, exceeds that.
 /// All of it positive terms, each rounding at most `ε`: a factor `1 +
 /// 64ε` and `TINY` cover them.
-pub(super) fn holds_by_motion_bound(world: &Geo, c: &Cert, now: &Time, end: &Time) -> bool {
+/// `place(a)` is [`Geo::mid_rad`] of `a` at `now.interval()` (a memo of
+/// them, where many certificates share points).
+pub(super) fn holds_by_motion_bound(
+    world: &Geo,
+    c: &Cert,
+    now: &Time,
+    end: &Time,
+    mut place: impl FnMut(Att) -> Option<crate::geom::MidRad>,
+) -> bool {
     use crate::geom::{EPS, TINY};
     if c.kind == crate::structure::certs::CertKind::Order {
         return false;
     }
     let t = now.interval();
-    let [Some(u), Some(v), Some(w)] = c.p.map(|a| world.mid_rad(a, t)) else {
+    let [Some(u), Some(v), Some(w)] = c.p.map(&mut place) else {
         return false;
     };
     let speed = |a: Att| -> [f64; 2] {

@@ -5,6 +5,7 @@
 
 use std::collections::BTreeSet;
 
+use crate::geom::{MidRad, Mr};
 use crate::motion::orient_poly;
 use crate::num::{Interval, Sign, Time};
 use crate::structure::certs::CertKind;
@@ -15,7 +16,7 @@ use crate::structure::{Att, CorrId, Obj};
 use crate::world::BodyId;
 
 use super::book::{
-    bridge_end, cert_enclosure, holds_by_motion_bound, holds_until_bridge_end, is_failing,
+    bridge_end, cert_enclosure_with, holds_by_motion_bound, holds_until_bridge_end, is_failing,
 };
 use super::instant::Broken;
 use super::tally::Rebuild;
@@ -96,6 +97,14 @@ impl Kinetic {
         // (`encl[i]`: the enclosure of `touched[i]`'s certificate function,
         // computed once for the bridge check, its failure time and the
         // filters below)
+        // (each point's place at `now` and linear enclosure computed once:
+        // the certificates on a body share its vertices, and nothing in
+        // this loop moves a point)
+        let tiv = now.interval();
+        let mut places: FastMap<Att, Option<MidRad>> =
+            FastMap::with_capacity_and_hasher(2 * touched.len(), Default::default());
+        let mut linears: FastMap<Att, Option<[Mr; 4]>> =
+            FastMap::with_capacity_and_hasher(2 * touched.len(), Default::default());
         let mut turning = vec![false; touched.len()];
         let mut kinds: Vec<Option<CertKind>> = Vec::with_capacity(touched.len());
         let mut encl: Vec<Option<[Interval; 3]>> = Vec::with_capacity(touched.len());
@@ -116,7 +125,10 @@ impl Kinetic {
             // (a turn certificate that its points' places now and their
             // speeds prove positive until then: idle, no enclosure needed;
             // nothing below reads one for it, its turn is not zero now)
-            if let Some(_end) = end.filter(|end| holds_by_motion_bound(world, &cert, now, end)) {
+            let place = |a: Att| *places.entry(a).or_insert_with(|| world.mid_rad(a, tiv));
+            if let Some(_end) =
+                end.filter(|end| holds_by_motion_bound(world, &cert, now, end, place))
+            {
                 #[cfg(debug_assertions)]
                 {
                     let f = super::book::cert_poly(world, &cert);
@@ -131,7 +143,9 @@ impl Kinetic {
                 *turning = true;
                 continue;
             }
-            let e = cert_enclosure(world, &cert);
+            let e = cert_enclosure_with(&cert, |a| {
+                *linears.entry(a).or_insert_with(|| world.linear_mr(a))
+            });
             encl.push(e);
             if end.is_some_and(|end| holds_until_bridge_end(now, end, e)) {
                 self.idle_until_bridge_end(id);
@@ -155,7 +169,6 @@ impl Kinetic {
         // dropped meanwhile may no longer be vertices)
         // (for a turn certificate, its function's enclosure at `now`: a
         // positive multiple of the turn or of its negation)
-        let tiv = now.interval();
         let undecided: Vec<bool> = touched
             .iter()
             .zip(&turning)
