@@ -26,60 +26,35 @@ const MEMO_MAX: usize = 1 << 10;
 /// One entry of an [`EnclosureMemo`]: the approximation vertex `av(i, k)`
 /// as `(k, i)` (`k = u32::MAX`: empty; `i`'s top bit, [`CHECKED`], set
 /// where `i` was found to be the id before `k` in the exposed set of the
-/// memo's `checked` version, and its next bit, [`REAL_VERTEX`], where the
-/// point is a real vertex of the polygon), the enclosure of the point in
-/// the body's grid ([`EdgeArray::av_enclose`]; none for a real vertex), and the
-/// enclosures of its position at time 0 under the frame of the uid it
-/// holds (the velocity terms are the frame's own).
-type MemoEntry = (u32, u32, u64, [Interval; 2], [Interval; 2]);
+/// memo's `checked` version) and the enclosures of its position at time 0
+/// (the velocity terms are the frame's own).
+type MemoEntry = (u32, u32, [Interval; 2]);
 
 /// The flag of an [`EnclosureMemo`] entry's `i` that it was checked
 /// against the exposed set of the memo's `checked` version (an entry's
-/// ids are below [`REAL_VERTEX`]: a point with an id at or above it is
-/// not kept).
+/// ids are below it: a point with an id at or above it is not kept).
 const CHECKED: u32 = 1 << 31;
 
-/// The flag of an [`EnclosureMemo`] entry's `i` that its point is a real
-/// vertex: it keeps no enclosure in the body's grid.
-const REAL_VERTEX: u32 = 1 << 30;
-
-/// What an [`EnclosureMemo`] knows of a point.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Memoized {
-    /// The enclosures of its position at time 0 under the frame asked for.
-    Placed([Interval; 2]),
-    /// Its enclosure in the body's grid ([`EdgeArray::av_enclose`]), kept
-    /// from another frame.
-    InBody([Interval; 2]),
-}
-
 /// The linear enclosures of a body's recently seen approximation vertices,
-/// direct-mapped by exposed id: at an event the same few points are
-/// enclosed for many predicates. An entry names the body-frame point
-/// itself, `av(i, k)` with `i` the id before `k`, so a pop or a merge
-/// (which changes which point an exposed id names) leaves every other entry
-/// valid. Its position's enclosure is for one frame (a frame's uid is never
-/// reused); the point's enclosure in the body's grid, the costly part,
-/// holds for every frame, so that after a motion change (a new frame) a
-/// point is placed again from it. An entry read with the exposed set of
-/// one version is flagged for it: asked again while the set is unchanged,
-/// it answers without the search for the id before `k` (a new version
-/// clears the flags, one pass over the slots). It grows with the
-/// approximation, keeping its entries. A clone starts empty.
+/// direct-mapped by exposed id, for one frame (the memo's key): at an
+/// event the same few points are enclosed for many predicates. An entry
+/// names the body-frame point itself, `av(i, k)` with `i` the id before
+/// `k`, so a pop or a merge (which changes which point an exposed id names)
+/// leaves every other entry valid; a frame's uid is never reused, and a
+/// motion change (a new frame) starts the memo again. An entry read with
+/// the exposed set of one version is flagged for it: asked again while the
+/// set is unchanged, it answers without the search for the id before `k`
+/// (a new version clears the flags, one pass over the slots). It grows
+/// with the approximation, keeping its entries. A clone starts empty.
 pub struct EnclosureMemo {
+    uid: std::cell::Cell<u64>,
     /// The exposed set's [`Exposed::version`] that the flagged entries were
     /// checked against.
     checked: std::cell::Cell<u64>,
     slots: std::cell::RefCell<Vec<MemoEntry>>,
 }
 
-const EMPTY_ENTRY: MemoEntry = (
-    u32::MAX,
-    0,
-    0,
-    [Interval { lo: 0.0, hi: 0.0 }; 2],
-    [Interval { lo: 0.0, hi: 0.0 }; 2],
-);
+const EMPTY_ENTRY: MemoEntry = (u32::MAX, 0, [Interval { lo: 0.0, hi: 0.0 }; 2]);
 
 impl EnclosureMemo {
     /// An empty memo sized for an approximation of `n` vertices (`2n`
@@ -88,6 +63,7 @@ impl EnclosureMemo {
     /// swarm missed on slots that two exposed ids share).
     pub fn new(n: usize) -> EnclosureMemo {
         EnclosureMemo {
+            uid: std::cell::Cell::new(0),
             checked: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; Self::size(n)]),
         }
@@ -115,61 +91,51 @@ impl EnclosureMemo {
         }
     }
 
-    /// The entry of exposed id `k` (its `i` and enclosures under the frame
-    /// `uid`) if it was checked against the exposed set of version
-    /// `version` (the set it is asked for: its contents are the same, so
-    /// `k` is exposed and `i` is the id before it), without a search for
-    /// that id.
+    /// The entry of exposed id `k` (its `i` and enclosures) if it was
+    /// checked against the exposed set of version `version` (the set it is
+    /// asked for: its contents are the same, so `k` is exposed and `i` is
+    /// the id before it), without a search for that id.
     fn get_current(&self, uid: u64, k: u32, version: u64) -> Option<(u32, [Interval; 2])> {
-        if self.checked.get() != version {
+        if self.uid.get() != uid || self.checked.get() != version {
             return None;
         }
         let slots = self.slots.borrow();
         let e = slots[Self::slot(slots.len(), k)];
-        (e.0 == k && e.1 & CHECKED != 0 && e.2 == uid)
-            .then_some((e.1 & !(CHECKED | REAL_VERTEX), e.4))
+        (e.0 == k && e.1 & CHECKED != 0).then_some((e.1 & !CHECKED, e.2))
     }
 
-    /// What the memo knows of `av(i, k)` for the frame `uid`, the entry
-    /// flagged as checked against the exposed set of version `version`
-    /// (where `i` is the id before `k`).
-    fn get(&self, uid: u64, (k, i): (u32, u32), version: u64) -> Option<Memoized> {
+    /// The entry of `av(i, k)`, flagged as checked against the exposed set
+    /// of version `version` (where `i` is the id before `k`).
+    fn get(&self, uid: u64, (k, i): (u32, u32), version: u64) -> Option<[Interval; 2]> {
+        if self.uid.get() != uid {
+            return None;
+        }
         let mut slots = self.slots.borrow_mut();
         let at = Self::slot(slots.len(), k);
         let e = slots[at];
-        if e.0 != k || e.1 & !(CHECKED | REAL_VERTEX) != i {
+        if e.0 != k || e.1 & !CHECKED != i {
             return None;
         }
         self.check_against(&mut slots, version);
-        slots[at].1 |= CHECKED;
-        if e.2 == uid {
-            Some(Memoized::Placed(e.4))
-        } else if e.1 & REAL_VERTEX == 0 {
-            Some(Memoized::InBody(e.3))
-        } else {
-            None
-        }
+        slots[at].1 = i | CHECKED;
+        Some(e.2)
     }
 
-    /// Keep `placed` for `av(i, k)` under the frame `uid`, with `in_body`
-    /// its enclosure in the body's grid (`None`: a real vertex), the
-    /// approximation having `n` vertices and `i` the id before `k` in its
-    /// exposed set of version `version`.
-    fn put(
-        &self,
-        (uid, version): (u64, u64),
-        (k, i): (u32, u32),
-        n: usize,
-        in_body: Option<[Interval; 2]>,
-        placed: [Interval; 2],
-    ) {
-        // (an id with a flag's bit is not kept: an entry's id then never
+    /// Keep `e` for `av(i, k)` of the frame `uid`, the approximation having
+    /// `n` vertices and `i` the id before `k` in its exposed set of version
+    /// `version`.
+    fn put(&self, uid: u64, (k, i): (u32, u32), version: u64, n: usize, e: [Interval; 2]) {
+        // (an id with the flag's bit is not kept: an entry's id then never
         // reads as another)
-        if i >= REAL_VERTEX || k == u32::MAX {
+        if i >= CHECKED || k == u32::MAX {
             return;
         }
         let mut slots = self.slots.borrow_mut();
         let want = Self::size(n);
+        if self.uid.get() != uid {
+            slots.fill(EMPTY_ENTRY);
+            self.uid.set(uid);
+        }
         if want > slots.len() {
             // (grown with the approximation, its entries kept: each moves
             // to its slot in the larger table)
@@ -180,17 +146,14 @@ impl EnclosureMemo {
         }
         self.check_against(&mut slots, version);
         let at = Self::slot(slots.len(), k);
-        let (flag, body) = match in_body {
-            Some(xy) => (0, xy),
-            None => (REAL_VERTEX, EMPTY_ENTRY.3),
-        };
-        slots[at] = (k, i | CHECKED | flag, uid, body, placed);
+        slots[at] = (k, i | CHECKED, e);
     }
 }
 
 impl Clone for EnclosureMemo {
     fn clone(&self) -> EnclosureMemo {
         EnclosureMemo {
+            uid: std::cell::Cell::new(0),
             checked: std::cell::Cell::new(0),
             slots: std::cell::RefCell::new(vec![EMPTY_ENTRY; self.slots.borrow().len()]),
         }
@@ -1362,46 +1325,21 @@ impl<'a> Geo<'a> {
         i: usize,
     ) -> Option<[Interval; 4]> {
         let ki = (k as u32, i as u32);
-        let (uid, version) = (frame.uid(), ap.exposed.version());
-        let in_body = match ap.memo.get(uid, ki, version) {
-            Some(Memoized::Placed([x0, y0])) => {
-                let [x1, y1] = frame.velocity_enclosure();
-                return Some([x0, x1, y0, y1]);
-            }
-            // (placed under an earlier frame: the enclosure in the body's
-            // grid holds, the frame places it)
-            Some(Memoized::InBody(xy)) => Some(xy),
-            None => {
-                // (the key `linear_key` would find, from the predecessor
-                // given)
-                let at = ap.point_of(i, k);
-                debug_assert_eq!(
-                    self.linear_key(Att::vertex(b, k as u32)),
-                    Some((b, at)),
-                    "the point's key"
-                );
-                if at.0 == u32::MAX {
-                    None
-                } else {
-                    Some(ap.array.av_enclose(at.0 as usize, at.1 as usize)?)
-                }
-            }
-        };
-        let e = match in_body {
-            Some([x, y]) => frame.linear_enclosure(x, y),
-            None => {
-                let at = ap.point_of(i, k);
-                self.linear_fresh(b, at)?
-            }
-        };
+        let version = ap.exposed.version();
+        if let Some([x0, y0]) = ap.memo.get(frame.uid(), ki, version) {
+            let [x1, y1] = frame.velocity_enclosure();
+            return Some([x0, x1, y0, y1]);
+        }
+        // (the key `linear_key` would find, from the predecessor given)
+        let at = ap.point_of(i, k);
         debug_assert_eq!(
-            Some(e),
-            self.linear_fresh(b, ap.point_of(i, k)),
-            "a memo's enclosure of {:?}",
-            (b, k, i)
+            self.linear_key(Att::vertex(b, k as u32)),
+            Some((b, at)),
+            "the point's key"
         );
+        let e = self.linear_fresh(b, at)?;
         ap.memo
-            .put((uid, version), ki, ap.exposed.len(), in_body, [e[0], e[2]]);
+            .put(frame.uid(), ki, version, ap.exposed.len(), [e[0], e[2]]);
         Some(e)
     }
 
@@ -1818,50 +1756,31 @@ mod tests {
     /// An enclosure memo entry answers without the id before its vertex
     /// only for the exposed set's version it was last checked against: a
     /// new version clears every flag, and an entry read again with its id
-    /// before is flagged for the new one. Under a new frame an entry gives
-    /// its point's enclosure in the body's grid (none for a real vertex),
-    /// and is placed only once put again for that frame.
+    /// before is flagged for the new one; a new frame empties the memo, and
+    /// a larger approximation grows it with its entries.
     #[test]
     fn an_enclosure_memo_entry_answers_by_version_only_once_checked() {
         let memo = EnclosureMemo::new(8);
         let e = |x: f64| [Interval { lo: x, hi: x + 1.0 }; 2];
-        memo.put((7, 100), (3, 1), 8, Some(e(10.0)), e(1.0));
-        memo.put((7, 100), (5, 3), 8, None, e(2.0));
+        memo.put(7, (3, 1), 100, 8, e(1.0));
+        memo.put(7, (5, 3), 100, 8, e(2.0));
         assert_eq!(memo.get_current(7, 3, 100), Some((1, e(1.0))));
         assert_eq!(memo.get_current(7, 5, 100), Some((3, e(2.0))));
         assert_eq!(memo.get_current(8, 3, 100), None, "another frame");
         // a pop or a merge: a new version, nothing answers by it yet
         assert_eq!(memo.get_current(7, 3, 101), None);
         assert_eq!(memo.get(7, (3, 2), 101), None, "another point");
-        assert_eq!(memo.get(7, (3, 1), 101), Some(Memoized::Placed(e(1.0))));
+        assert_eq!(memo.get(7, (3, 1), 101), Some(e(1.0)));
         assert_eq!(memo.get_current(7, 3, 101), Some((1, e(1.0))));
         assert_eq!(memo.get_current(7, 5, 101), None, "not checked again");
         assert_eq!(memo.get_current(7, 3, 100), None, "the old version");
-        // a motion change: a new frame
-        memo.put((9, 101), (5, 3), 8, None, e(3.0));
-        assert_eq!(
-            memo.get(9, (3, 1), 101),
-            Some(Memoized::InBody(e(10.0))),
-            "placed under another frame, in the body's grid for every frame"
-        );
-        assert_eq!(
-            memo.get_current(9, 3, 101),
-            None,
-            "not placed for the new frame"
-        );
+        memo.put(9, (5, 3), 101, 8, e(3.0));
+        assert_eq!(memo.get(7, (3, 1), 101), None, "the memo of another frame");
+        assert_eq!(memo.get(9, (3, 1), 101), None, "emptied for the new frame");
         assert_eq!(memo.get_current(9, 5, 101), Some((3, e(3.0))));
-        assert_eq!(
-            memo.get(11, (5, 3), 101),
-            None,
-            "a real vertex keeps nothing in the grid"
-        );
-        memo.put((9, 101), (3, 1), 8, Some(e(10.0)), e(4.0));
-        assert_eq!(memo.get_current(9, 3, 101), Some((1, e(4.0))));
-        // (an id with a flag's bit is not kept)
-        memo.put((9, 101), (6, REAL_VERTEX), 8, None, e(5.0));
-        assert_eq!(memo.get(9, (6, REAL_VERTEX), 101), None);
         // grown for a larger approximation, the entries stay
-        memo.put((9, 101), (40, 38), 64, Some(e(6.0)), e(7.0));
+        memo.put(9, (3, 1), 101, 8, e(4.0));
+        memo.put(9, (40, 38), 101, 64, e(7.0));
         assert_eq!(memo.slots.borrow().len(), 128);
         assert_eq!(memo.get_current(9, 3, 101), Some((1, e(4.0))));
         assert_eq!(memo.get_current(9, 5, 101), Some((3, e(3.0))));
