@@ -337,7 +337,17 @@ pub struct Kinetic {
     scheduled: Option<Vec<CertId>>,
     /// Rotates the coarsening candidates.
     tick: u64,
+    /// The places and the linear enclosures of the points a motion change
+    /// asks for ([`Kinetic::motion_changed`]), emptied at each: kept only
+    /// so that a motion change does not allocate them again.
+    motion_memo: MotionMemo,
 }
+
+/// [`Kinetic::motion_memo`].
+type MotionMemo = (
+    FastMap<Att, Option<crate::geom::MidRad>>,
+    FastMap<Att, Option<[crate::geom::Mr; 4]>>,
+);
 
 impl Kinetic {
     /// Every certificate with its owners and scheduled failure time (a

@@ -5,7 +5,6 @@
 
 use std::collections::BTreeSet;
 
-use crate::geom::{MidRad, Mr};
 use crate::motion::orient_poly;
 use crate::num::{Interval, Sign, Time};
 use crate::structure::certs::CertKind;
@@ -101,10 +100,9 @@ impl Kinetic {
         // the certificates on a body share its vertices, and nothing in
         // this loop moves a point)
         let tiv = now.interval();
-        let mut places: FastMap<Att, Option<MidRad>> =
-            FastMap::with_capacity_and_hasher(2 * touched.len(), Default::default());
-        let mut linears: FastMap<Att, Option<[Mr; 4]>> =
-            FastMap::with_capacity_and_hasher(2 * touched.len(), Default::default());
+        let (mut places, mut linears) = std::mem::take(&mut self.motion_memo);
+        places.clear();
+        linears.clear();
         let mut turning = vec![false; touched.len()];
         let mut kinds: Vec<Option<CertKind>> = Vec::with_capacity(touched.len());
         let mut encl: Vec<Option<[Interval; 3]>> = Vec::with_capacity(touched.len());
@@ -157,6 +155,7 @@ impl Kinetic {
             }
             self.reschedule_id(world, id, now, Some(e));
         }
+        self.motion_memo = (places, linears);
         // A corridor with a junction straight at `now` was shaped by its
         // turns just after `now` under the old motions (an operation of this
         // instant may have decomposed it again, even while its own failure
@@ -199,7 +198,7 @@ impl Kinetic {
         let resting = if whole {
             // (the bodies whose points may part: those whose motion
             // changed, and those of the contacts set aside for the response)
-            let mut moved: Vec<BodyId> = bodies.to_vec();
+            let mut moved: smallvec::SmallVec<[BodyId; 8]> = bodies.iter().copied().collect();
             moved.extend(waiting.iter().flatten().filter_map(|a| match a.obj {
                 Obj::Body(b) => Some(b),
                 Obj::Omega => None,
