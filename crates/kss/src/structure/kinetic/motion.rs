@@ -88,6 +88,13 @@ impl Kinetic {
             touched.push(*p);
             ids.push(id);
         }
+        // (each point's place at `now` and linear enclosure computed once:
+        // the certificates on a body share its vertices, and nothing in
+        // the loop below moves a point)
+        let tiv = now.interval();
+        let (mut places, mut linears) = std::mem::take(&mut self.motion_memo);
+        places.clear();
+        linears.clear();
         // (a certificate that holds until a bridge of one of its bodies
         // ends is scheduled then, when that body's motion changes again;
         // `turning[i]`: the filter proved `touched[i]` a turn certificate
@@ -96,13 +103,6 @@ impl Kinetic {
         // (`encl[i]`: the enclosure of `touched[i]`'s certificate function,
         // computed once for the bridge check, its failure time and the
         // filters below)
-        // (each point's place at `now` and linear enclosure computed once:
-        // the certificates on a body share its vertices, and nothing in
-        // this loop moves a point)
-        let tiv = now.interval();
-        let (mut places, mut linears) = std::mem::take(&mut self.motion_memo);
-        places.clear();
-        linears.clear();
         let mut turning = vec![false; touched.len()];
         let mut kinds: Vec<Option<CertKind>> = Vec::with_capacity(touched.len());
         let mut encl: Vec<Option<[Interval; 3]>> = Vec::with_capacity(touched.len());
