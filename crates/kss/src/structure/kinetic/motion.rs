@@ -481,41 +481,50 @@ impl Kinetic {
         let meet = |x: Att, y: Att| {
             !apart(x.obj, y.obj) && crate::structure::faces::coincide_at(world, x, y, now)
         };
-        // (sized for two owners a certificate, the corridors at their ends
-        // below, and each corridor's two bodies: no vector grows)
-        let mut owners: Vec<CorrId> = Vec::with_capacity(2 * ids.len());
-        owners.extend(
-            ids.iter()
-                .filter_map(|&id| self.certs.at(id?))
-                .flat_map(|s| s.owners.iter())
-                .filter_map(|o| match *o {
-                    Owner::Corr(k) => Some(k),
-                    Owner::Tri(_) => None,
-                }),
-        );
-        owners.sort_unstable();
-        owners.dedup();
-        // (and the corridors at their ends: a turn through two resting
-        // points has no certificate that would name them, and an empty
-        // corridor has none at all)
-        let mut cands = Vec::with_capacity(7 * owners.len());
-        cands.extend_from_slice(&owners);
-        for &k in &owners {
-            let c = &self.kss.corrs[k.0 as usize];
-            for tri in [c.s.0, c.t.0] {
-                cands.extend(self.kss.tris[tri.0 as usize].corr);
-            }
-        }
+        // (each corridor once, marked in a bitmap of the corridors rather
+        // than sorted: the order of the candidates changes nothing below,
+        // whose result is a set)
+        let mut mark = vec![0u64; self.kss.corrs.len().div_ceil(64)];
+        let mut first = |k: CorrId| {
+            let (w, bit) = ((k.0 / 64) as usize, 1u64 << (k.0 % 64));
+            let new = mark[w] & bit == 0;
+            mark[w] |= bit;
+            new
+        };
         let parts = |o: Obj| match o {
             Obj::Body(b) => moved.binary_search(&b).is_ok(),
             Obj::Omega => true,
         };
-        cands.retain(|&k| {
+        let on_moved = |k: CorrId| {
             let c = &self.kss.corrs[k.0 as usize];
             parts(c.a) || parts(c.b)
-        });
-        cands.sort_unstable();
-        cands.dedup();
+        };
+        // the owners, and the corridors at their ends (a turn through two
+        // resting points has no certificate that would name them, and an
+        // empty corridor has none at all), those on a moved body or the
+        // hull alone; sized for two owners a certificate
+        let mut owners: Vec<CorrId> = Vec::with_capacity(2 * ids.len());
+        for s in ids.iter().filter_map(|&id| self.certs.at(id?)) {
+            for o in s.owners.iter() {
+                if let Owner::Corr(k) = *o {
+                    if first(k) {
+                        owners.push(k);
+                    }
+                }
+            }
+        }
+        let mut cands: Vec<CorrId> = Vec::with_capacity(2 * owners.len());
+        for &k in &owners {
+            let c = &self.kss.corrs[k.0 as usize];
+            for tri in [c.s.0, c.t.0] {
+                for n in self.kss.tris[tri.0 as usize].corr {
+                    if first(n) && on_moved(n) {
+                        cands.push(n);
+                    }
+                }
+            }
+        }
+        cands.extend(owners.into_iter().filter(|&k| on_moved(k)));
         // (two bodies none of whose vertices can be at one place at `now`,
         // as their vertices' f64 positions prove, each pair asked once: a
         // corridor between them has only their vertices, and none rests)
