@@ -494,6 +494,16 @@ pub fn orient_poly(p: &LinearPoint, q: &LinearPoint, r: &LinearPoint) -> Poly {
     let [ux0, ux1, uy0, uy1] = diff(p, q);
     let [vx0, vx1, vy0, vy1] = diff(p, r);
     let c0 = &ux0 * &vy0 - &uy0 * &vx0;
+    // `q` and `r` move alike (two points of one body, over one
+    // denominator): `u` and `v` have the same velocity part `w`, so the
+    // quadratic term is zero and the linear one is `(u − v) × w`, the same
+    // integers as the general sums below with two products instead of six
+    if q.w == r.w && q.x1 == r.x1 && q.y1 == r.y1 {
+        debug_assert!(ux1 == vx1 && uy1 == vy1);
+        let c1 = (&ux0 - &vx0) * &uy1 - (&uy0 - &vy0) * &ux1;
+        debug_assert_eq!(c1, &ux0 * &vy1 + &ux1 * &vy0 - &uy0 * &vx1 - &uy1 * &vx0);
+        return Poly::new(c0, c1, Int::ZERO);
+    }
     let c1 = &ux0 * &vy1 + &ux1 * &vy0 - &uy0 * &vx1 - &uy1 * &vx0;
     let c2 = &ux1 * &vy1 - &uy1 * &vx1;
     Poly::new(c0, c1, c2)
