@@ -1500,9 +1500,17 @@ fn relative_position(ta: &Trajectory, tb: &Trajectory, t: &Rational) -> [(Int, I
         (on * vd * td + vn * tn * od, od * vd * td)
     };
     let coord = |i: usize| {
-        let pick = |p: &Point| if i == 0 { p.x.clone() } else { p.y.clone() };
-        let (na, da) = at(&pick(ta.origin()), &pick(ta.velocity()));
-        let (nb, db) = at(&pick(tb.origin()), &pick(tb.velocity()));
+        // (the coordinate `i` of each, borrowed)
+        let [(oa, va), (ob, vb)] = [ta, tb].map(|tr| {
+            let (o, v) = (tr.origin(), tr.velocity());
+            if i == 0 {
+                (&o.x, &v.x)
+            } else {
+                (&o.y, &v.y)
+            }
+        });
+        let (na, da) = at(oa, va);
+        let (nb, db) = at(ob, vb);
         (&na * &db - &nb * &da, da * db)
     };
     [coord(0), coord(1)]
