@@ -338,8 +338,10 @@ pub struct Kinetic {
     /// Rotates the coarsening candidates.
     tick: u64,
     /// The places and the linear enclosures of the points a motion change
-    /// asks for ([`Kinetic::motion_changed`]), emptied at each: kept only
-    /// so that a motion change does not allocate them again.
+    /// asks for ([`Kinetic::motion_changed`]), and the bitmap of the
+    /// corridors it looks for resting points in ([`Kinetic::resting_now`]),
+    /// emptied at each: kept only so that a motion change does not
+    /// allocate them again.
     motion_memo: MotionMemo,
 }
 
@@ -347,6 +349,7 @@ pub struct Kinetic {
 type MotionMemo = (
     FastMap<Att, Option<crate::geom::MidRad>>,
     FastMap<Att, Option<[crate::geom::Mr; 4]>>,
+    Vec<u64>,
 );
 
 impl Kinetic {

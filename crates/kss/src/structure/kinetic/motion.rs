@@ -92,7 +92,7 @@ impl Kinetic {
         // the certificates on a body share its vertices, and nothing in
         // the loop below moves a point)
         let tiv = now.interval();
-        let (mut places, mut linears) = std::mem::take(&mut self.motion_memo);
+        let (mut places, mut linears, mark) = std::mem::take(&mut self.motion_memo);
         places.clear();
         linears.clear();
         // (a certificate that holds until a bridge of one of its bodies
@@ -155,7 +155,7 @@ impl Kinetic {
             }
             self.reschedule_id(world, id, now, Some(e));
         }
-        self.motion_memo = (places, linears);
+        self.motion_memo = (places, linears, mark);
         // A corridor with a junction straight at `now` was shaped by its
         // turns just after `now` under the old motions (an operation of this
         // instant may have decomposed it again, even while its own failure
@@ -205,7 +205,10 @@ impl Kinetic {
             }));
             moved.sort_unstable();
             moved.dedup();
-            self.resting_now(world, &ids, &moved, now)
+            let mut mark = std::mem::take(&mut self.motion_memo.2);
+            let resting = self.resting_now(world, &ids, &moved, now, &mut mark);
+            self.motion_memo.2 = mark;
+            resting
         } else {
             BTreeSet::new()
         };
@@ -453,13 +456,15 @@ impl Kinetic {
     /// certificates anew. Only a corridor on one of the bodies `moved`
     /// (sorted), or on the hull, can have points that part: the points of a
     /// corridor between two bodies are theirs, and two bodies whose motions
-    /// stay keep their points where they were.
+    /// stay keep their points where they were. `mark` is the buffer of a
+    /// bitmap of the corridors (its contents are replaced).
     pub(super) fn resting_now(
         &self,
         world: &Geo,
         ids: &[Option<CertId>],
         moved: &[BodyId],
         now: &Time,
+        mark: &mut Vec<u64>,
     ) -> BTreeSet<CorrId> {
         // (two points of two bodies whose boxes are apart at `now` do not
         // meet: the boxes first, each computed once)
@@ -481,10 +486,11 @@ impl Kinetic {
         let meet = |x: Att, y: Att| {
             !apart(x.obj, y.obj) && crate::structure::faces::coincide_at(world, x, y, now)
         };
-        // (each corridor once, marked in a bitmap of the corridors rather
-        // than sorted: the order of the candidates changes nothing below,
-        // whose result is a set)
-        let mut mark = vec![0u64; self.kss.corrs.len().div_ceil(64)];
+        // (each corridor once: marked in `mark`, a bitmap of the corridors,
+        // rather than sorted; the order of the candidates changes nothing
+        // below, whose result is a set)
+        mark.clear();
+        mark.resize(self.kss.corrs.len().div_ceil(64), 0);
         let mut first = |k: CorrId| {
             let (w, bit) = ((k.0 / 64) as usize, 1u64 << (k.0 % 64));
             let new = mark[w] & bit == 0;
