@@ -14,8 +14,8 @@
 //! In the structure, `k` and `q` must both be interior vertices of one
 //! corridor chain that carry no middle bridge (nothing else is attached to
 //! them), so the merge only shortens that chain by one edge and moves `q`.
-//! It is done when the grown triangle, scaled by 2 about the midpoint of
-//! `A C` (hysteresis: a margin as large as the triangle itself), meets
+//! It is done when the grown triangle, scaled by 3/2 about the midpoint of
+//! `A C` (hysteresis: a margin half as large as the triangle itself), meets
 //! nothing of that corridor (the other chain, the end-edges, the middle
 //! bridge, or for a hull corridor the hull bridges), decided exactly at the
 //! current instant, and the corridor's faces are pseudo-triangles just
@@ -81,11 +81,11 @@ fn segment_meets_triangle_enclosed(
     (edges_meet && sides.contains(&pos) && sides.contains(&neg)).then_some(true)
 }
 
-/// `x` scaled by 2 about `m`.
-fn double_about(m: &Point, x: &Point) -> Point {
+/// `x` scaled by the margin's factor 3/2 about `m`.
+fn widen_about(m: &Point, x: &Point) -> Point {
     m.add(
         &x.sub(m)
-            .scale(&Rational::from_int(crate::num::Int::from(2))),
+            .scale(&Rational::from_dyadic(crate::num::Int::from(3), -1)),
     )
 }
 
@@ -177,8 +177,8 @@ impl Kss {
             return None;
         }
         // positions at `t`: A (id k), C (id q) now; Z (id q) after; the
-        // triangle `big` is ACZ scaled by 2 about the midpoint m of AC (each
-        // corner x becomes 2x − m). Its f64 enclosure first: a segment whose box
+        // triangle `big` is ACZ scaled by 3/2 about the midpoint m of AC
+        // (each corner x becomes (3x − m)/2). Its f64 enclosure first: a segment whose box
         // misses the triangle's box misses the triangle, and only the
         // others need the exact positions. (Merges happen at rational
         // instants only. The instant's exact value is asked for only where
@@ -192,9 +192,10 @@ impl Kss {
         };
         let big_box = match (enc(p, kk), enc(kk, q), enc(p, q)) {
             (Some(ea), Some(ec), Some(ez)) => {
-                let (half, two) = (Interval::point(0.5), Interval::point(2.0));
+                let (half, wide) = (Interval::point(0.5), Interval::point(1.5));
                 let m = [(ea[0] + ec[0]) * half, (ea[1] + ec[1]) * half];
-                let scaled = |x: [Interval; 2]| [two * x[0] - m[0], two * x[1] - m[1]];
+                let scaled =
+                    |x: [Interval; 2]| [wide * x[0] - half * m[0], wide * x[1] - half * m[1]];
                 let b = [scaled(ea), scaled(ec), scaled(ez)];
                 // (counter-clockwise, as `exact_big` orders it)
                 let b = match crate::geom::orient_enclosed(b[0], b[1], b[2]) {
@@ -225,9 +226,9 @@ impl Kss {
                 .add(&pc)
                 .scale(&Rational::from_dyadic(crate::num::Int::from(1), -1));
             let big = [
-                double_about(&m, &pa),
-                double_about(&m, &pc),
-                double_about(&m, &pz),
+                widen_about(&m, &pa),
+                widen_about(&m, &pc),
+                widen_about(&m, &pz),
             ];
             let big = if orient(&big[0], &big[1], &big[2]) == Sign::Negative {
                 [big[0].clone(), big[2].clone(), big[1].clone()]
